@@ -1,0 +1,12 @@
+#pragma once
+// Each subcommand of the hoidslam tool lives in its own <name>_command.cc and adds itself to the app here.
+// A command's callback throws core::InputError for bad input; main() turns that into one message and exit 1.
+
+#include <CLI/CLI.hpp>
+
+namespace hoidslam::apps {
+
+void AddDetectCommand(CLI::App& app);
+void AddEvalCommand(CLI::App& app);
+
+}  // namespace hoidslam::apps

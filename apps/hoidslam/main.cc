@@ -1,0 +1,38 @@
+// hoidslam: RGB-D SLAM that drops the features of people and of the objects they handle.
+#include <exception>
+
+#include <CLI/CLI.hpp>
+#include <opencv2/core/utility.hpp>
+#include <spdlog/spdlog.h>
+
+#include "commands.h"
+#include "hoidslam/core/error.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"hoidslam: RGB-D SLAM in scenes where people walk and move things (HOID method)"};
+  app.require_subcommand(1);
+  bool verbose = false;
+  app.add_flag("-v,--verbose", verbose, "Log debugging details");
+  app.parse_complete_callback([&verbose] {
+    spdlog::set_level(verbose ? spdlog::level::debug : spdlog::level::info);
+  });
+
+  hoidslam::apps::AddDetectCommand(app);
+  hoidslam::apps::AddEvalCommand(app);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const hoidslam::core::InputError& e) {
+    spdlog::error("{}", e.what());
+    return 1;
+  } catch (const cv::Exception& e) {
+    spdlog::error("OpenCV: {}", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    spdlog::error("internal error: {}", e.what());
+    return 2;
+  }
+  return 0;
+}

@@ -1,0 +1,34 @@
+# hoidslam_module(<name>
+#   SOURCES  <files...>          library sources of src/hoidslam/<name>/
+#   DEPENDS  <modules...>        other hoidslam modules this one may use (DESIGN.md layering)
+#   LIBS     <targets...>        third-party targets
+#   TESTS    <files...>          GoogleTest sources, built into <name>_tests and registered with CTest
+#   BENCHMARKS <files...>)       Google Benchmark sources, built into <name>_bench
+#
+# Each module is its own static library `hoidslam_<name>`, so the layering in DESIGN.md is enforced by the
+# link graph: a module can only include what it DEPENDS on.
+function(hoidslam_module name)
+  cmake_parse_arguments(M "" "" "SOURCES;DEPENDS;LIBS;TESTS;BENCHMARKS" ${ARGN})
+  set(target hoidslam_${name})
+  add_library(${target} STATIC ${M_SOURCES})
+  add_library(hoidslam::${name} ALIAS ${target})
+  target_include_directories(${target} PUBLIC ${PROJECT_SOURCE_DIR}/src)
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic)
+  foreach(dep IN LISTS M_DEPENDS)
+    target_link_libraries(${target} PUBLIC hoidslam_${dep})
+  endforeach()
+  target_link_libraries(${target} PUBLIC ${M_LIBS})
+
+  if(HOIDSLAM_BUILD_TESTS AND M_TESTS)
+    add_executable(${name}_tests ${M_TESTS})
+    target_compile_options(${name}_tests PRIVATE -Wall -Wextra)
+    target_link_libraries(${name}_tests PRIVATE ${target} hoidslam_test_support GTest::gtest_main GTest::gmock)
+    gtest_discover_tests(${name}_tests TEST_PREFIX "${name}." DISCOVERY_TIMEOUT 60)
+  endif()
+
+  if(HOIDSLAM_BUILD_BENCHMARKS AND M_BENCHMARKS)
+    add_executable(${name}_bench ${M_BENCHMARKS})
+    target_compile_options(${name}_bench PRIVATE -Wall -Wextra)
+    target_link_libraries(${name}_bench PRIVATE ${target} hoidslam_test_support benchmark::benchmark_main)
+  endif()
+endfunction()

@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# Sets up hoidslam on Debian 12 from nothing: installs the build dependencies from Debian's packages,
+# builds the Release binaries into build/, and runs the main job on data that needs no download.
+#
+#   scripts/setup.sh            install + build + run the main job
+#   scripts/setup.sh --no-run   install + build only (used by CI and scripts/test.sh)
+#
+# Safe to run again: packages already installed are not touched, and the build is incremental.
+set -euo pipefail
+
+repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+build="${HOIDSLAM_BUILD_DIR:-$repo/build}"
+run_main_job=1
+[[ "${1:-}" == "--no-run" ]] && run_main_job=0
+
+packages=(
+  build-essential cmake ninja-build pkg-config
+  libopencv-dev libeigen3-dev libceres-dev
+  libcli11-dev nlohmann-json3-dev libspdlog-dev libfmt-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+)
+
+missing=()
+for package in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" || missing+=("$package")
+done
+if ((${#missing[@]} > 0)); then
+  echo "hoidslam setup: installing ${missing[*]}"
+  sudo_cmd=()
+  [[ "$(id -u)" -ne 0 ]] && sudo_cmd=(sudo)
+  export DEBIAN_FRONTEND=noninteractive
+  "${sudo_cmd[@]}" apt-get update -qq
+  "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+cmake -S "$repo" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release
+cmake --build "$build" -j "$(nproc)"
+
+if ((run_main_job)); then
+  "$repo/scripts/main-job.sh"
+fi

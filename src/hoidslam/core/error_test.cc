@@ -1,0 +1,27 @@
+#include "hoidslam/core/error.h"
+
+#include <gtest/gtest.h>
+
+namespace hoidslam::core {
+namespace {
+
+TEST(InputError, NamesFileAndLine) {
+  const InputError e = InputError::AtLine("data/rgb.txt", 12, "expected 2 columns, found 1");
+  EXPECT_STREQ(e.what(), "data/rgb.txt:12: expected 2 columns, found 1");
+}
+
+TEST(InputError, NamesParameter) {
+  const InputError e = InputError::ForParameter("HOID.minInteractionArea", "must be in (0, 1], got 1.5");
+  EXPECT_STREQ(e.what(), "parameter HOID.minInteractionArea: must be in (0, 1], got 1.5");
+}
+
+TEST(InputError, IsAnError) {
+  try {
+    throw InputError::InFile("model.onnx", "no such file");
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(), "model.onnx: no such file");
+  }
+}
+
+}  // namespace
+}  // namespace hoidslam::core

@@ -1,0 +1,40 @@
+#pragma once
+// Output files are complete or absent: everything is written to a temporary sibling and renamed into place
+// only when the writer commits. A writer destroyed without Commit() (an exception, an interrupted run)
+// removes its temporary file and leaves any earlier file at the path untouched.
+
+#include <filesystem>
+#include <fstream>
+
+#include <opencv2/core/mat.hpp>
+
+namespace hoidslam::io {
+
+class AtomicFile {
+ public:
+  // Opens a temporary file beside `path`; throws InputError naming `path` when the folder is not writable.
+  explicit AtomicFile(std::filesystem::path path);
+  ~AtomicFile();
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+
+  std::ostream& stream() { return stream_; }
+  const std::filesystem::path& path() const { return path_; }
+
+  // Flushes, checks that every write succeeded, and renames the temporary file to path().
+  void Commit();
+
+ private:
+  std::filesystem::path path_;
+  std::filesystem::path temporary_path_;
+  std::ofstream stream_;
+  bool committed_ = false;
+};
+
+// A temporary name beside `path` that keeps its extension (so encoders can tell the format by name).
+std::filesystem::path TemporarySibling(const std::filesystem::path& path);
+
+// Encodes `image` by the extension of `path` (cv::imwrite) and renames it into place; throws on failure.
+void WriteImageAtomically(const std::filesystem::path& path, const cv::Mat& image);
+
+}  // namespace hoidslam::io
