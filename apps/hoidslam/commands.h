@@ -8,5 +8,6 @@ namespace hoidslam::apps {
 
 void AddDetectCommand(CLI::App& app);
 void AddEvalCommand(CLI::App& app);
+void AddSynthCommand(CLI::App& app);
 
 }  // namespace hoidslam::apps

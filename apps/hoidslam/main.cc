@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
 
   hoidslam::apps::AddDetectCommand(app);
   hoidslam::apps::AddEvalCommand(app);
+  hoidslam::apps::AddSynthCommand(app);
 
   try {
     app.parse(argc, argv);

@@ -27,4 +27,10 @@ class InputError : public Error {
   static InputError ForParameter(const std::string& name, const std::string& what);
 };
 
+// A long job stopped early because the user asked it to (Ctrl-C); it has left no partial output behind.
+class Interrupted : public Error {
+ public:
+  Interrupted() : Error("interrupted") {}
+};
+
 }  // namespace hoidslam::core

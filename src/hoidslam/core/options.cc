@@ -1,17 +1,16 @@
 #include "hoidslam/core/options.h"
 
 #include <algorithm>
-#include <array>
-#include <utility>
 
 #include <fmt/format.h>
 
+#include "hoidslam/core/enum_names.h"
 #include "hoidslam/core/error.h"
 
 namespace hoidslam::core {
 namespace {
 
-constexpr std::array<std::pair<FilterMode, std::string_view>, 5> kModeNames = {{
+constexpr EnumNames<FilterMode, 5> kModeNames = {{
     {FilterMode::kNone, "none"},
     {FilterMode::kPerson, "person"},
     {FilterMode::kClasses, "classes"},
@@ -21,19 +20,10 @@ constexpr std::array<std::pair<FilterMode, std::string_view>, 5> kModeNames = {{
 
 }  // namespace
 
-std::string_view ToString(FilterMode mode) {
-  for (const auto& [value, name] : kModeNames) {
-    if (value == mode) return name;
-  }
-  return "unknown";
-}
+std::string_view ToString(FilterMode mode) { return EnumName(kModeNames, mode); }
 
 FilterMode ParseFilterMode(std::string_view text, const std::string& parameter) {
-  for (const auto& [value, name] : kModeNames) {
-    if (name == text) return value;
-  }
-  throw InputError::ForParameter(
-      parameter, fmt::format("unknown mode '{}' (expected none, person, classes, hoid2d or hoid3d)", text));
+  return ParseEnumName(kModeNames, text, parameter, "mode");
 }
 
 bool HoidOptions::IsPotentiallyDynamic(std::string_view label) const {

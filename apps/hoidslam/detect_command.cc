@@ -1,0 +1,230 @@
+// `hoidslam detect`: runs an ONNX detector over every frame of a sequence and writes its detections file, so
+// that SLAM runs (and anyone else) can replay the detections without running the network again. With
+// --explain / --annotate it also shows what the HOID filter makes of each frame's detections.
+#include <algorithm>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <opencv2/imgcodecs.hpp>
+#include <spdlog/spdlog.h>
+
+#include "commands.h"
+#include "hoidslam/core/error.h"
+#include "hoidslam/core/interrupt.h"
+#include "hoidslam/core/progress.h"
+#include "hoidslam/core/stopwatch.h"
+#include "hoidslam/detect/onnx_detector.h"
+#include "hoidslam/hoid/explain.h"
+#include "hoidslam/hoid/filter.h"
+#include "hoidslam/io/atomic_file.h"
+#include "hoidslam/io/detections_file.h"
+#include "hoidslam/io/rgbd_sequence.h"
+#include "hoidslam/io/settings.h"
+#include "hoidslam/report/annotate.h"
+
+namespace hoidslam::apps {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct DetectArgs {
+  std::string dataset;
+  std::string model;
+  std::string out;  // empty: <dataset>/detections.jsonl
+  float conf = detect::OnnxDetectorOptions{}.confidence_threshold;
+  float nms = detect::OnnxDetectorOptions{}.nms_threshold;
+  int input_size = 0;
+  std::string layout = "auto";
+  std::string names;
+  std::string associations;
+  double depth_factor = io::SequenceOptions{}.depth_factor;
+  std::string settings;  // ORB-SLAM3-style settings file: HOID.* and DepthMapFactor
+  std::string mode;      // overrides HOID.mode
+  std::string annotate;  // folder for annotated frames
+  bool explain = false;
+};
+
+cv::Mat ReadColourImage(const fs::path& path) {
+  cv::Mat image;
+  try {
+    image = cv::imread(path.string(), cv::IMREAD_COLOR);
+  } catch (const cv::Exception& e) {
+    throw core::InputError::InFile(path, fmt::format("cannot decode the image: {}", e.err));
+  }
+  if (image.empty()) throw core::InputError::InFile(path, "cannot read the image");
+  return image;
+}
+
+// Shows the HOID filter's verdict on each frame's detections: one line per detection on stdout (--explain)
+// and/or the frame with red (dropped) and green (kept) boxes in a folder (--annotate).
+class HoidExplainer {
+ public:
+  HoidExplainer(const core::HoidOptions& options, fs::path annotate_folder, bool print)
+      : options_(options), annotate_folder_(std::move(annotate_folder)), print_(print) {
+    options_.Check();
+    if (!annotate_folder_.empty()) {
+      std::error_code error;
+      fs::create_directories(annotate_folder_, error);
+      if (error) throw core::InputError::InFile(annotate_folder_, "cannot create the folder: " + error.message());
+    }
+  }
+
+  bool active() const { return print_ || !annotate_folder_.empty(); }
+
+  void Explain(const io::RgbdSequence& sequence, std::size_t index, const cv::Mat& image,
+               const std::vector<core::Detection>& detections) {
+    // Only hoid3d reads depth; the other modes need no depth image at all.
+    const cv::Mat depth =
+        options_.mode == core::FilterMode::kHoid3d ? sequence.LoadFrame(index).depth : cv::Mat();
+    hoid::ClassifyDetections(detections, options_, depth, decisions_);
+    const io::SequenceEntry& entry = sequence.entry(index);
+    if (print_) {
+      fmt::print("frame {} ({:.6f}), mode {}:\n", index, entry.rgb_timestamp, core::ToString(options_.mode));
+      for (std::size_t i = 0; i < detections.size(); ++i) {
+        fmt::print("  #{:<2} {}\n", i, hoid::DescribeDecision(detections, decisions_, i));
+      }
+    }
+    if (annotate_folder_.empty()) return;
+    std::vector<report::BoxAnnotation> annotations;
+    annotations.reserve(detections.size());
+    for (std::size_t i = 0; i < detections.size(); ++i) {
+      annotations.push_back(
+          {detections[i].box, hoid::CaptionDecision(detections[i], decisions_[i]), decisions_[i].dynamic});
+    }
+    io::WriteImageAtomically(annotate_folder_ / fmt::format("{:.6f}.png", entry.rgb_timestamp),
+                             report::DrawBoxAnnotations(image, annotations));
+  }
+
+ private:
+  core::HoidOptions options_;
+  fs::path annotate_folder_;
+  bool print_;
+  std::vector<hoid::Decision> decisions_;
+};
+
+struct RunSummary {
+  std::size_t frames = 0;
+  std::size_t detections = 0;
+  std::map<std::string, std::size_t> per_class;
+  std::vector<double> milliseconds;  // Detect() time of each frame
+};
+
+// Detects in every frame and writes `out`; returns false when Ctrl-C or SIGTERM stopped the run (the file is
+// then not written).
+bool DetectAll(const io::RgbdSequence& sequence, detect::Detector& detector, const fs::path& out,
+               const core::InterruptGuard& interrupts, HoidExplainer& explainer, RunSummary& summary) {
+  const cv::Mat first = ReadColourImage(sequence.entry(0).rgb_path);
+  io::DetectionsFileWriter writer(out, {sequence.name(), detector.Name(), first.cols, first.rows});
+  core::ProgressReporter progress("detect", sequence.size());
+  for (std::size_t i = 0; i < sequence.size(); ++i) {
+    if (interrupts.requested()) return false;
+    const io::SequenceEntry& entry = sequence.entry(i);
+    const cv::Mat image = i == 0 ? first : ReadColourImage(entry.rgb_path);
+    if (image.size() != first.size()) {
+      throw core::InputError::InFile(entry.rgb_path, fmt::format("is {}×{}, unlike the first frame ({}×{})", image.cols,
+                                                                 image.rows, first.cols, first.rows));
+    }
+    const core::Stopwatch stopwatch;
+    io::FrameDetections frame{entry.rgb_timestamp, detector.Detect(entry.rgb_timestamp, image)};
+    summary.milliseconds.push_back(stopwatch.ElapsedMilliseconds());
+    for (const core::Detection& d : frame.detections) ++summary.per_class[d.label];
+    summary.detections += frame.detections.size();
+    ++summary.frames;
+    writer.Write(frame);
+    if (explainer.active()) explainer.Explain(sequence, i, image, frame.detections);
+    progress.Update(i + 1);
+  }
+  writer.Commit();
+  return true;
+}
+
+double Median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  if (values.size() % 2 == 1) return *middle;
+  return (*middle + *std::max_element(values.begin(), middle)) / 2.0;
+}
+
+void PrintSummary(const fs::path& out, const RunSummary& summary) {
+  fmt::print("wrote {}: {} frames, {} detections\n", out.string(), summary.frames, summary.detections);
+  std::vector<std::pair<std::string, std::size_t>> classes(summary.per_class.begin(), summary.per_class.end());
+  std::stable_sort(classes.begin(), classes.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+  for (const auto& [label, count] : classes) fmt::print("  {:<16} {:>8}\n", label, count);
+  fmt::print("median {:.1f} ms per frame (detector only)\n", Median(summary.milliseconds));
+}
+
+void RunDetect(const DetectArgs& args) {
+  const io::Settings settings = args.settings.empty() ? io::Settings{} : io::LoadSettings(args.settings);
+  core::HoidOptions hoid_options = settings.hoid;
+  if (!args.mode.empty()) hoid_options.mode = core::ParseFilterMode(args.mode, "HOID.mode (--mode)");
+  HoidExplainer explainer(hoid_options, args.annotate, args.explain);
+
+  io::SequenceOptions sequence_options;
+  sequence_options.depth_factor = args.settings.empty() ? args.depth_factor : settings.depth_map_factor;
+  sequence_options.associations = args.associations;
+  const io::RgbdSequence sequence = io::RgbdSequence::OpenTum(args.dataset, sequence_options);
+  if (sequence.size() == 0) throw core::InputError::InFile(args.dataset, "the sequence has no frames");
+
+  detect::OnnxDetectorOptions options;
+  options.model = args.model;
+  options.confidence_threshold = args.conf;
+  options.nms_threshold = args.nms;
+  options.input_size = args.input_size;
+  options.layout = detect::ParseYoloLayout(args.layout, "Detector.layout (--layout)");
+  options.class_names = args.names;
+  detect::OnnxDetector detector(options);
+  spdlog::info("{}: {}×{} input, {} layout, {} classes; {} frames of {}", detector.Name(), detector.input_size().width,
+               detector.input_size().height, detect::ToString(detector.output_format().layout),
+               detector.output_format().num_classes, sequence.size(), sequence.name());
+
+  const fs::path out = args.out.empty() ? fs::path(args.dataset) / "detections.jsonl" : fs::path(args.out);
+  RunSummary summary;
+  core::InterruptGuard interrupts;
+  if (!DetectAll(sequence, detector, out, interrupts, explainer, summary)) {
+    spdlog::warn("interrupted after {} of {} frames; {} was not written", summary.frames, sequence.size(),
+                 out.string());
+    interrupts.Reraise();
+  }
+  PrintSummary(out, summary);
+}
+
+}  // namespace
+
+void AddDetectCommand(CLI::App& app) {
+  auto args = std::make_shared<DetectArgs>();
+  CLI::App* command = app.add_subcommand(
+      "detect",
+      "Run an ONNX detector (YOLOX, YOLOv5, YOLOv8, YOLO11) on every RGB frame of a TUM-layout sequence "
+      "and write its detections file (JSON Lines, docs/detections-file.md)");
+  command->add_option("dataset", args->dataset, "Sequence folder (rgb.txt, depth.txt, rgb/, depth/)")->required();
+  command->add_option("--model", args->model, "Detector model (.onnx)")->required();
+  command->add_option("--out", args->out, "Detections file to write (default: <dataset>/detections.jsonl)");
+  command->add_option("--conf", args->conf, "Minimum detection score, in (0, 1)")->capture_default_str();
+  command->add_option("--nms", args->nms, "IoU above which a box suppresses a weaker one of its class, in (0, 1]")
+      ->capture_default_str();
+  command->add_option("--input-size", args->input_size,
+                      "Network input side in pixels, a multiple of 32; only for models without a fixed input size "
+                      "(default: the model's, else 640)");
+  command->add_option("--layout", args->layout, "Output layout: auto, yolox, yolov5, yolov8 or yolo11")
+      ->capture_default_str();
+  command->add_option("--names", args->names, "Class names file, one per line in model order (default: COCO-80)");
+  command->add_option("--associations", args->associations,
+                      "RGB-D associations file (t_rgb rgb/... t_depth depth/...), relative to the dataset folder");
+  command->add_option("--depth-factor", args->depth_factor, "Depth PNG units per metre (ignored with --settings)")
+      ->capture_default_str();
+  command->add_option("--settings", args->settings,
+                      "Settings file (e.g. config/TUM3.yaml): its HOID.* section and DepthMapFactor are used");
+  command->add_option("--mode", args->mode, "HOID filter mode for --explain/--annotate: none, person, classes, "
+                                            "hoid2d or hoid3d (default: HOID.mode of the settings, else hoid2d)");
+  command->add_flag("--explain", args->explain, "Print the HOID filter's verdict on every detection of every frame");
+  command->add_option("--annotate", args->annotate,
+                      "Write every frame with its boxes to this folder: red = features dropped, green = kept");
+  command->callback([args] { RunDetect(*args); });
+}
+
+}  // namespace hoidslam::apps

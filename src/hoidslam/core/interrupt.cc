@@ -1,0 +1,43 @@
+#include "hoidslam/core/interrupt.h"
+
+#include <csignal>
+
+#include "hoidslam/core/error.h"
+
+namespace hoidslam::core {
+namespace {
+
+volatile std::sig_atomic_t g_signal = 0;
+
+extern "C" void RecordSignal(int signal) { g_signal = signal; }
+
+// Installs RecordSignal for `signal` unless the signal is ignored (e.g. under nohup); returns the old handler.
+void (*Catch(int signal))(int) {
+  const auto previous = std::signal(signal, RecordSignal);
+  if (previous == SIG_IGN) std::signal(signal, SIG_IGN);
+  return previous;
+}
+
+}  // namespace
+
+InterruptGuard::InterruptGuard() : previous_int_(Catch(SIGINT)), previous_term_(Catch(SIGTERM)) { g_signal = 0; }
+
+InterruptGuard::~InterruptGuard() { Restore(); }
+
+int InterruptGuard::signal() const { return g_signal; }
+
+void InterruptGuard::Restore() {
+  if (restored_) return;
+  std::signal(SIGINT, previous_int_);
+  std::signal(SIGTERM, previous_term_);
+  restored_ = true;
+}
+
+void InterruptGuard::Reraise() {
+  const int caught = g_signal;
+  Restore();
+  if (caught != 0) std::raise(caught);
+  throw Error("interrupted");
+}
+
+}  // namespace hoidslam::core

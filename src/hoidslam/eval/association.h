@@ -1,0 +1,46 @@
+#pragma once
+// Matching the poses of two trajectories by timestamp, as TUM's associate.py does, and the nearest-stamp
+// look-up that evaluate_rpe.py uses.
+
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include "hoidslam/core/pose.h"
+
+namespace hoidslam::eval {
+
+struct AssociationOptions {
+  double max_difference = 0.02;  // --max-difference, seconds, > 0: a pair must differ by strictly less
+  double offset = 0.0;           // --offset, seconds, finite: added to the second (estimated) stamps
+
+  void Check() const;
+};
+
+// A matched pair: indices into the first (ground truth) and second (estimate) stamp lists.
+struct Match {
+  std::size_t first = 0;
+  std::size_t second = 0;
+
+  friend bool operator==(const Match&, const Match&) = default;
+};
+
+// associate.py: every pair (a, b) with |a - (b + offset)| < max_difference is a candidate; candidates are taken
+// greedily from the smallest difference up (ties by a, then b), each stamp at most once. The result is sorted
+// by the first stamp. Throws InputError naming --max-difference if the tolerance is so wide that the candidate
+// pairs would not fit in memory (tens of millions; a tolerance near the frame spacing gives a few per stamp).
+std::vector<Match> AssociateByTimestamp(std::span<const double> first, std::span<const double> second,
+                                        const AssociationOptions& options);
+std::vector<Match> AssociateByTimestamp(const core::Trajectory& first, const core::Trajectory& second,
+                                        const AssociationOptions& options);
+
+// Index of the stamp in `sorted` (ascending, non-empty) closest to `t`; the earlier one on an exact tie.
+std::size_t ClosestIndex(std::span<const double> sorted, double t);
+
+// The trajectory as TUM's tools see it (they key poses by stamp): sorted by time, and of poses with equal
+// stamps only the last one kept. Throws InputError for a timestamp that is not finite.
+core::Trajectory SortedUniqueByTime(core::Trajectory trajectory);
+
+std::vector<double> Timestamps(const core::Trajectory& trajectory);
+
+}  // namespace hoidslam::eval

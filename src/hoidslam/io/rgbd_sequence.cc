@@ -1,0 +1,254 @@
+#include "hoidslam/io/rgbd_sequence.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <map>
+#include <set>
+#include <string_view>
+#include <tuple>
+
+#include <fmt/format.h>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "hoidslam/core/error.h"
+#include "hoidslam/io/text_lines.h"
+#include "hoidslam/io/trajectory_file.h"
+
+namespace hoidslam::io {
+namespace {
+
+namespace fs = std::filesystem;
+using core::InputError;
+
+// Timestamp → image, as TUM's read_file_list builds it: a repeated timestamp keeps its last line.
+using ImageList = std::map<double, fs::path>;
+
+void CheckOptions(const SequenceOptions& options) {
+  if (!(options.depth_factor > 0.0 && std::isfinite(options.depth_factor))) {
+    throw InputError::ForParameter("DepthMapFactor", fmt::format("must be > 0, got {}", options.depth_factor));
+  }
+  if (!(options.max_time_difference > 0.0 && std::isfinite(options.max_time_difference))) {
+    throw InputError::ForParameter("max_time_difference",
+                                   fmt::format("must be > 0 seconds, got {}", options.max_time_difference));
+  }
+}
+
+// `root / listed`, which must exist; the error names the list file, its line and the missing image.
+fs::path ListedImage(const fs::path& root, std::string_view listed, const fs::path& list_file, std::size_t line) {
+  fs::path image = root / fs::path(listed);
+  if (!fs::is_regular_file(image)) {
+    throw InputError::AtLine(list_file, line, fmt::format("listed image {} does not exist", image.string()));
+  }
+  return image;
+}
+
+// rgb.txt / depth.txt: `timestamp relative/path` lines.
+ImageList ReadImageList(const fs::path& root, const fs::path& list_file) {
+  ImageList images;
+  ForEachDataLine(list_file, [&](std::size_t line, const std::vector<std::string_view>& fields) {
+    if (fields.size() != 2) {
+      throw InputError::AtLine(list_file, line,
+                               fmt::format("expected 'timestamp path', found {} field(s)", fields.size()));
+    }
+    images[ParseDouble(fields[0], list_file, line)] = ListedImage(root, fields[1], list_file, line);
+  });
+  if (images.empty()) throw InputError::InFile(list_file, "lists no images");
+  return images;
+}
+
+// TUM's associate.py: every pair closer than `max_difference` is a candidate; candidates are taken closest first,
+// each timestamp at most once; the result is in RGB time order.
+std::vector<SequenceEntry> Associate(const ImageList& rgb, const ImageList& depth, double max_difference) {
+  struct Candidate {
+    double difference, t_rgb, t_depth;
+    bool operator<(const Candidate& other) const {
+      return std::tie(difference, t_rgb, t_depth) < std::tie(other.difference, other.t_rgb, other.t_depth);
+    }
+  };
+  std::vector<Candidate> candidates;
+  for (const auto& [t_rgb, unused] : rgb) {
+    // The search window is twice the tolerance so that rounding at large timestamps cannot hide a pair; the exact
+    // test is the one associate.py makes.
+    for (auto it = depth.lower_bound(t_rgb - 2.0 * max_difference);
+         it != depth.end() && it->first <= t_rgb + 2.0 * max_difference; ++it) {
+      const double difference = std::abs(t_rgb - it->first);
+      if (difference < max_difference) candidates.push_back({difference, t_rgb, it->first});
+    }
+  }
+  std::sort(candidates.begin(), candidates.end());
+
+  std::set<double> used_rgb, used_depth;
+  std::vector<SequenceEntry> entries;
+  for (const Candidate& c : candidates) {
+    if (used_rgb.contains(c.t_rgb) || used_depth.contains(c.t_depth)) continue;
+    used_rgb.insert(c.t_rgb);
+    used_depth.insert(c.t_depth);
+    entries.push_back({c.t_rgb, rgb.at(c.t_rgb), c.t_depth, depth.at(c.t_depth)});
+  }
+  std::sort(entries.begin(), entries.end(),
+            [](const SequenceEntry& a, const SequenceEntry& b) { return a.rgb_timestamp < b.rgb_timestamp; });
+  return entries;
+}
+
+// An associations file: `t_rgb rgb/x.png t_depth depth/y.png` lines; a repeated RGB timestamp keeps its last line.
+std::vector<SequenceEntry> ReadAssociations(const fs::path& root, const fs::path& file) {
+  std::map<double, SequenceEntry> by_rgb_time;
+  ForEachDataLine(file, [&](std::size_t line, const std::vector<std::string_view>& fields) {
+    if (fields.size() != 4) {
+      throw InputError::AtLine(
+          file, line, fmt::format("expected 't_rgb rgb_path t_depth depth_path', found {} field(s)", fields.size()));
+    }
+    SequenceEntry entry{ParseDouble(fields[0], file, line), ListedImage(root, fields[1], file, line),
+                        ParseDouble(fields[2], file, line), ListedImage(root, fields[3], file, line)};
+    by_rgb_time[entry.rgb_timestamp] = std::move(entry);
+  });
+  if (by_rgb_time.empty()) throw InputError::InFile(file, "lists no RGB-D pairs");
+  std::vector<SequenceEntry> entries;
+  entries.reserve(by_rgb_time.size());
+  for (auto& [unused, entry] : by_rgb_time) entries.push_back(std::move(entry));
+  return entries;
+}
+
+// `folder` made absolute and normal, without a trailing separator, so that its filename() is the folder's name
+// also for "seq/", "." or "..". Symbolic links are kept: the name is the one the user gave.
+fs::path NormalFolder(const fs::path& folder) {
+  fs::path normal = fs::absolute(folder).lexically_normal();
+  return normal.has_filename() ? normal : normal.parent_path();
+}
+
+bool IsImageFile(const fs::path& path) {
+  std::string extension = path.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension == ".png" || extension == ".jpg" || extension == ".jpeg";
+}
+
+// The image files of `folder`, sorted by file name.
+std::vector<fs::path> ImagesIn(const fs::path& folder) {
+  if (!fs::is_directory(folder)) throw InputError::InFile(folder, "image folder does not exist");
+  std::vector<fs::path> images;
+  for (const fs::directory_entry& item : fs::directory_iterator(folder)) {
+    if (item.is_regular_file() && IsImageFile(item.path())) images.push_back(item.path());
+  }
+  std::sort(images.begin(), images.end(),
+            [](const fs::path& a, const fs::path& b) { return a.filename() < b.filename(); });
+  return images;
+}
+
+// "3-channel 8-bit unsigned" and the like, for messages about what an image file held.
+std::string DescribeType(const cv::Mat& image) {
+  constexpr std::string_view kDepthNames[] = {"8-bit unsigned", "8-bit signed", "16-bit unsigned", "16-bit signed",
+                                              "32-bit signed",  "32-bit float", "64-bit float",    "16-bit float"};
+  return fmt::format("{}-channel {}", image.channels(), kDepthNames[image.depth()]);
+}
+
+// cv::imread with the failures turned into errors that name the file.
+cv::Mat ReadImage(const fs::path& path, int flags, std::string_view what) {
+  if (!fs::is_regular_file(path)) throw InputError::InFile(path, fmt::format("{} image does not exist", what));
+  cv::Mat image;
+  try {
+    image = cv::imread(path.string(), flags);
+  } catch (const cv::Exception& e) {
+    throw InputError::InFile(path, fmt::format("cannot decode the {} image: {}", what, e.err));
+  }
+  if (image.empty()) {
+    throw InputError::InFile(path, fmt::format("cannot decode the {} image: expected a PNG or JPEG file, found a "
+                                               "corrupt, truncated or unsupported one",
+                                               what));
+  }
+  return image;
+}
+
+}  // namespace
+
+RgbdSequence RgbdSequence::OpenTum(const std::filesystem::path& root, const SequenceOptions& options) {
+  CheckOptions(options);
+  if (!fs::is_directory(root)) throw InputError::InFile(root, "sequence folder does not exist");
+
+  RgbdSequence sequence;
+  sequence.name_ = NormalFolder(root).filename().string();
+  sequence.root_ = root;
+  sequence.options_ = options;
+  if (!options.associations.empty()) {
+    sequence.entries_ = ReadAssociations(root, root / options.associations);
+  } else {
+    const fs::path rgb_list = root / "rgb.txt";
+    const fs::path depth_list = root / "depth.txt";
+    sequence.entries_ =
+        Associate(ReadImageList(root, rgb_list), ReadImageList(root, depth_list), options.max_time_difference);
+    if (sequence.entries_.empty()) {
+      throw InputError::InFile(root, fmt::format("no image of {} is within {} s of an image of {}", rgb_list.string(),
+                                                 options.max_time_difference, depth_list.string()));
+    }
+  }
+  // Ground truth is optional and is matched to frames by time later, never by line.
+  if (const fs::path groundtruth = root / "groundtruth.txt"; fs::exists(groundtruth)) {
+    sequence.groundtruth_ = ReadTumTrajectory(groundtruth);
+  }
+  return sequence;
+}
+
+RgbdSequence RgbdSequence::OpenImageFolders(const std::filesystem::path& rgb_folder,
+                                            const std::filesystem::path& depth_folder, double fps,
+                                            const SequenceOptions& options) {
+  CheckOptions(options);
+  if (!(fps > 0.0 && std::isfinite(fps))) {
+    throw InputError::ForParameter("fps", fmt::format("must be > 0, got {}", fps));
+  }
+  const std::vector<fs::path> rgb = ImagesIn(rgb_folder);
+  const std::vector<fs::path> depth = ImagesIn(depth_folder);
+  if (rgb.size() != depth.size() || rgb.empty()) {
+    throw InputError(
+        fmt::format("{} holds {} image(s) and {} holds {}: the folders must hold the same, non-zero "
+                    "number of images",
+                    rgb_folder.string(), rgb.size(), depth_folder.string(), depth.size()));
+  }
+
+  RgbdSequence sequence;
+  // seq/rgb + seq/depth is called "seq"; folders with nothing in common are called after the colour folder.
+  const fs::path rgb_parent = NormalFolder(rgb_folder).parent_path();
+  sequence.root_ = rgb_parent == NormalFolder(depth_folder).parent_path() ? rgb_parent : NormalFolder(rgb_folder);
+  sequence.name_ = sequence.root_.filename().string();
+  sequence.options_ = options;
+  sequence.entries_.reserve(rgb.size());
+  for (std::size_t i = 0; i < rgb.size(); ++i) {
+    const double timestamp = static_cast<double>(i) / fps;
+    sequence.entries_.push_back({timestamp, rgb[i], timestamp, depth[i]});
+  }
+  return sequence;
+}
+
+std::vector<double> RgbdSequence::Timestamps() const {
+  std::vector<double> timestamps;
+  timestamps.reserve(entries_.size());
+  for (const SequenceEntry& entry : entries_) timestamps.push_back(entry.rgb_timestamp);
+  return timestamps;
+}
+
+core::RgbdFrame RgbdSequence::LoadFrame(std::size_t index) const {
+  const SequenceEntry& entry = entries_.at(index);
+  core::RgbdFrame frame;
+  frame.timestamp = entry.rgb_timestamp;
+  frame.rgb_path = entry.rgb_path.string();
+  frame.depth_path = entry.depth_path.string();
+  frame.rgb = ReadImage(entry.rgb_path, cv::IMREAD_COLOR, "colour");
+
+  const cv::Mat raw = ReadImage(entry.depth_path, cv::IMREAD_UNCHANGED, "depth");
+  if (raw.type() != CV_16UC1) {
+    throw InputError::InFile(
+        entry.depth_path,
+        fmt::format("depth image must be 1-channel 16-bit unsigned (a 16-bit PNG), found {}", DescribeType(raw)));
+  }
+  if (raw.size() != frame.rgb.size()) {
+    throw InputError::InFile(entry.depth_path,
+                             fmt::format("depth image is {}x{} but its colour image {} is {}x{}", raw.cols, raw.rows,
+                                         entry.rgb_path.string(), frame.rgb.cols, frame.rgb.rows));
+  }
+  // 0 (no measurement) stays 0.
+  raw.convertTo(frame.depth, CV_32F, 1.0 / options_.depth_factor);
+  return frame;
+}
+
+}  // namespace hoidslam::io

@@ -1,0 +1,20 @@
+#pragma once
+// Pictures a user can look at: detection boxes drawn over a frame, coloured by what happens to their features.
+
+#include <span>
+#include <string>
+
+#include <opencv2/core/mat.hpp>
+
+namespace hoidslam::report {
+
+struct BoxAnnotation {
+  cv::Rect2f box;        // pixels
+  std::string caption;   // drawn above the box, e.g. "cup 0.81: held by person#0 (62%)"
+  bool dynamic = false;  // dynamic boxes are drawn red and their features are dropped; static ones green
+};
+
+// A copy of `bgr` (CV_8UC3) with every annotation drawn; dynamic boxes are drawn last so they stay visible.
+cv::Mat DrawBoxAnnotations(const cv::Mat& bgr, std::span<const BoxAnnotation> annotations);
+
+}  // namespace hoidslam::report

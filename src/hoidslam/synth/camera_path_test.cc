@@ -1,0 +1,214 @@
+#include "hoidslam/synth/camera_path.h"
+
+#include <cmath>
+#include <functional>
+#include <fstream>
+#include <numbers>
+#include <string>
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include "hoidslam/core/camera.h"
+#include "hoidslam/core/error.h"
+#include "support/shared_data.h"
+#include "support/temp_dir.h"
+
+namespace hoidslam::synth {
+namespace {
+
+core::Pose MakePose(const Eigen::Vector3d& t, double angle, const Eigen::Vector3d& axis) {
+  core::Pose pose = core::Pose::Identity();
+  pose.linear() = Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
+  pose.translation() = t;
+  return pose;
+}
+
+void ExpectPoseNear(const core::Pose& a, const core::Pose& b, double tolerance) {
+  EXPECT_LT((a.translation() - b.translation()).norm(), tolerance);
+  EXPECT_LT((a.linear() - b.linear()).norm(), tolerance);
+}
+
+std::string Message(const std::function<void()>& action) {
+  try {
+    action();
+  } catch (const core::InputError& error) {
+    return error.what();
+  }
+  return "";
+}
+
+void WriteText(const std::filesystem::path& path, const std::string& text) { std::ofstream(path) << text; }
+
+TEST(CameraPath, InterpolationIsExactOnKnotsAndHalfwayBetween) {
+  const core::Trajectory trajectory = {{10.0, MakePose({0, 0, 0}, 0.0, {0, 0, 1})},
+                                       {11.0, MakePose({1, 2, 0}, 0.4, {0, 0, 1})},
+                                       {13.0, MakePose({1, 2, 3}, 0.4, {1, 0, 0})}};
+  for (const core::StampedPose& knot : trajectory) ExpectPoseNear(InterpolatePose(trajectory, knot.timestamp), knot.T_wc, 1e-12);
+  const core::Pose half = InterpolatePose(trajectory, 10.5);
+  EXPECT_LT((half.translation() - Eigen::Vector3d(0.5, 1.0, 0.0)).norm(), 1e-12);
+  EXPECT_NEAR(Eigen::AngleAxisd(half.linear()).angle(), 0.2, 1e-12);
+  const core::Pose quarter = InterpolatePose(trajectory, 11.5);
+  EXPECT_LT((quarter.translation() - Eigen::Vector3d(1.0, 2.0, 0.75)).norm(), 1e-12);
+  // Outside the span: clamped to the ends.
+  ExpectPoseNear(InterpolatePose(trajectory, 9.0), trajectory.front().T_wc, 1e-12);
+  ExpectPoseNear(InterpolatePose(trajectory, 14.0), trajectory.back().T_wc, 1e-12);
+}
+
+class TumFiles : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    // Ground truth from t = 100.0 to 100.5 at 10 Hz: moving along x, turning about z.
+    std::string truth = "# timestamp tx ty tz qx qy qz qw\n";
+    for (int i = 0; i <= 5; ++i) {
+      const double angle = 0.1 * i;
+      truth += std::to_string(100.0 + 0.1 * i) + " " + std::to_string(0.2 * i) + " -3.0 1.4 0 0 " +
+               std::to_string(std::sin(angle / 2)) + " " + std::to_string(std::cos(angle / 2)) + "\n";
+    }
+    WriteText(dir_ / "groundtruth.txt", truth);
+    // Frames at 30 Hz from before the ground truth starts to after it ends.
+    std::string associations;
+    for (int i = 0; i < 20; ++i) {
+      const double t = 99.95 + i / 30.0;
+      associations += std::to_string(t) + " rgb/" + std::to_string(t) + ".png " + std::to_string(t + 0.00002) +
+                      " depth/" + std::to_string(t) + ".png\n";
+    }
+    WriteText(dir_ / "associations.txt", associations);
+  }
+  testing::TempDir dir_;
+};
+
+TEST_F(TumFiles, ReanchorsTheFirstPoseAndKeepsRelativeMotion) {
+  const core::Pose anchor = CameraPoseFromYawPitch({1.0, 2.0, 1.5}, 30.0, -10.0);
+  const CameraPath path = CameraPath::FromTum(dir_ / "groundtruth.txt", dir_ / "associations.txt", anchor);
+  // Frames before 100.0 and after 100.5 are dropped: 99.95 + i/30 within [100, 100.5] for i = 2..16.
+  ASSERT_EQ(path.size(), 15U);
+  EXPECT_NEAR(path.frames().front().timestamp, 99.95 + 2.0 / 30.0, 1e-6);
+  EXPECT_NEAR(path.frames().front().depth_timestamp - path.frames().front().timestamp, 0.00002, 1e-6);
+  ExpectPoseNear(path.frames().front().T_wc, anchor, 1e-12);
+
+  const core::Trajectory truth = [&] {
+    core::Trajectory t;
+    for (int i = 0; i <= 5; ++i) t.push_back({100.0 + 0.1 * i, MakePose({0.2 * i, -3.0, 1.4}, 0.1 * i, {0, 0, 1})});
+    return t;
+  }();
+  const core::Pose first_tum = InterpolatePose(truth, path.frames().front().timestamp);
+  for (const CameraFrame& frame : path.frames()) {
+    const core::Pose relative_synth = path.frames().front().T_wc.inverse() * frame.T_wc;
+    const core::Pose relative_tum = first_tum.inverse() * InterpolatePose(truth, frame.timestamp);
+    ExpectPoseNear(relative_synth, relative_tum, 1e-5);  // the file holds 6 decimals
+  }
+  EXPECT_EQ(path.Trajectory().size(), path.size());
+
+  const CameraPath cut = CameraPath::FromTum(dir_ / "groundtruth.txt", dir_ / "associations.txt", anchor, 4);
+  EXPECT_EQ(cut.size(), 4U);
+}
+
+TEST_F(TumFiles, BadFilesNameTheFileAndLine) {
+  const core::Pose anchor = core::Pose::Identity();
+  EXPECT_NE(Message([&] { CameraPath::FromTum(dir_ / "missing.txt", dir_ / "associations.txt", anchor); })
+                .find("missing.txt"),
+            std::string::npos);
+  EXPECT_NE(Message([&] { CameraPath::FromTum(dir_ / "groundtruth.txt", dir_ / "nope.txt", anchor); }).find("nope.txt"),
+            std::string::npos);
+  WriteText(dir_ / "short.txt", "100.0 rgb/a.png 100.0 depth/a.png\n100.1 rgb/b.png\n");
+  EXPECT_NE(Message([&] { CameraPath::FromTum(dir_ / "groundtruth.txt", dir_ / "short.txt", anchor); })
+                .find("short.txt:2:"),
+            std::string::npos);
+  WriteText(dir_ / "backwards.txt", "100.2 rgb/a.png 100.2 depth/a.png\n100.1 rgb/b.png 100.1 depth/b.png\n");
+  EXPECT_NE(Message([&] { CameraPath::FromTum(dir_ / "groundtruth.txt", dir_ / "backwards.txt", anchor); })
+                .find("backwards.txt:2:"),
+            std::string::npos);
+  WriteText(dir_ / "later.txt", "200.0 rgb/a.png 200.0 depth/a.png\n");
+  EXPECT_NE(Message([&] { CameraPath::FromTum(dir_ / "groundtruth.txt", dir_ / "later.txt", anchor); })
+                .find("no frame falls within"),
+            std::string::npos);
+}
+
+TEST(CameraPath, RealWalkingXyzPathHasTheRealTimingAndSpeed) {
+  HOIDSLAM_SHARED_PATH_OR_SKIP(groundtruth, "data/tum/groundtruth/fr3_walking_xyz.txt");
+  HOIDSLAM_SHARED_PATH_OR_SKIP(associations, "data/tum/associations/fr3_walking_xyz.txt");
+  const core::Pose anchor = CameraPoseFromYawPitch({1.0, 3.0, 1.4}, 0.0, -15.0);
+  const CameraPath path = CameraPath::FromTum(groundtruth, associations, anchor);
+  EXPECT_GT(path.size(), 800U);
+  EXPECT_LE(path.size(), 827U);  // the associations file's frames, minus any outside the ground truth
+  const double duration = path.frames().back().timestamp - path.frames().front().timestamp;
+  EXPECT_NEAR(duration, 28.0, 2.0);
+  double length = 0.0;
+  double largest_step = 0.0;
+  for (std::size_t i = 1; i < path.size(); ++i) {
+    const double step = (path.frames()[i].T_wc.translation() - path.frames()[i - 1].T_wc.translation()).norm();
+    length += step;
+    largest_step = std::max(largest_step, step);
+  }
+  // A hand-held camera swept along x, y, z: a few metres in all, at most a few centimetres a frame.
+  EXPECT_GT(length / duration, 0.05);
+  EXPECT_LT(length / duration, 1.0);
+  EXPECT_LT(largest_step, 0.1);
+  // It stays near its start: the desks remain in view.
+  for (const CameraFrame& frame : path.frames()) {
+    EXPECT_LT((frame.T_wc.translation() - anchor.translation()).norm(), 1.0);
+  }
+}
+
+TEST(CameraPath, ProceduralPathsStartAtTheAnchorAndMoveAsNamed) {
+  ProceduralPathOptions options;
+  options.T_anchor = CameraPoseFromYawPitch({2.0, 1.0, 1.3}, 45.0, -10.0);
+  options.frames = 90;
+  options.fps = 30.0;
+  options.start_time = 5.0;
+  for (const ProceduralMotion motion :
+       {ProceduralMotion::kStatic, ProceduralMotion::kXyz, ProceduralMotion::kHalfsphere, ProceduralMotion::kRpy}) {
+    options.motion = motion;
+    EXPECT_EQ(ParseProceduralMotion(ToString(motion), "camera.motion"), motion);
+    const CameraPath path = CameraPath::Procedural(options);
+    ASSERT_EQ(path.size(), 90U);
+    EXPECT_DOUBLE_EQ(path.frames()[0].timestamp, 5.0);
+    EXPECT_NEAR(path.frames()[30].timestamp, 6.0, 1e-12);
+    ExpectPoseNear(path.frames().front().T_wc, options.T_anchor, 1e-12);
+    double moved = 0.0;
+    double turned = 0.0;
+    for (const CameraFrame& frame : path.frames()) {
+      const core::Pose relative = options.T_anchor.inverse() * frame.T_wc;
+      moved = std::max(moved, relative.translation().norm());
+      turned = std::max(turned, Eigen::AngleAxisd(relative.linear()).angle());
+      if (motion == ProceduralMotion::kHalfsphere) {
+        // The pivot stays at the image centre.
+        const Eigen::Vector3d pivot_w = options.T_anchor * Eigen::Vector3d(0, 0, options.pivot_distance);
+        const Eigen::Vector3d pivot_c = frame.T_wc.inverse() * pivot_w;
+        EXPECT_NEAR(pivot_c.x(), 0.0, 1e-9);
+        EXPECT_NEAR(pivot_c.y(), 0.0, 1e-9);
+      }
+    }
+    EXPECT_EQ(moved > 0.01, motion == ProceduralMotion::kXyz || motion == ProceduralMotion::kHalfsphere)
+        << ToString(motion);
+    EXPECT_EQ(turned > 0.01, motion == ProceduralMotion::kRpy || motion == ProceduralMotion::kHalfsphere)
+        << ToString(motion);
+  }
+  EXPECT_NE(Message([] { ParseProceduralMotion("spin", "camera.motion"); }).find("camera.motion"), std::string::npos);
+  options.fps = 0.0;
+  EXPECT_NE(Message([&] { CameraPath::Procedural(options); }).find("camera.fps"), std::string::npos);
+}
+
+TEST(CameraPath, PoseHelpersFollowTheOpticalFrameConvention) {
+  const core::Pose level = CameraPoseFromYawPitch({0, 0, 1}, 0.0, 0.0);
+  EXPECT_LT((level.linear().col(2) - Eigen::Vector3d::UnitX()).norm(), 1e-12);   // looks along +x
+  EXPECT_LT((level.linear().col(0) + Eigen::Vector3d::UnitY()).norm(), 1e-12);   // image right is -y
+  EXPECT_LT((level.linear().col(1) + Eigen::Vector3d::UnitZ()).norm(), 1e-12);   // image down is -z
+  EXPECT_NEAR(level.linear().determinant(), 1.0, 1e-12);
+  const core::Pose down = CameraPoseFromYawPitch({0, 0, 1}, 90.0, -30.0);
+  EXPECT_NEAR(down.linear().col(2).z(), -0.5, 1e-12);
+  EXPECT_NEAR(down.linear().col(2).y(), std::sqrt(3.0) / 2.0, 1e-12);
+
+  const Eigen::Vector3d target(3.0, 1.0, 0.7);
+  const core::Pose look = CameraPoseLookingAt({0.5, -1.0, 1.6}, target);
+  const core::CameraIntrinsics k;
+  const Eigen::Vector2d pixel = k.Project(look.inverse() * target);
+  EXPECT_NEAR(pixel.x(), k.cx, 1e-9);
+  EXPECT_NEAR(pixel.y(), k.cy, 1e-9);
+  EXPECT_NEAR(look.linear().col(0).z(), 0.0, 1e-12);  // level horizon
+  EXPECT_THROW(CameraPoseLookingAt({0, 0, 1}, {0, 0, 0}), core::InputError);
+}
+
+}  // namespace
+}  // namespace hoidslam::synth

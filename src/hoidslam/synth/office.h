@@ -1,0 +1,94 @@
+#pragma once
+// The synthetic office: a room with desks, shelves, posters and the everyday objects people handle.
+//
+// World frame: the room spans x in [0, room.x], y in [0, room.y], z in [0, room.z] (z up, floor at 0).
+// Objects have a local frame with its origin at the centre of their base, z up and their front (a monitor's
+// screen, the side of a chair one sits down from) facing local +x; `yaw_deg` turns local +x to the world
+// direction (cos yaw, sin yaw).
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "hoidslam/core/pose.h"
+#include "hoidslam/synth/scene.h"
+#include "hoidslam/synth/textures.h"
+
+namespace hoidslam::synth {
+
+// The things in the office that carry a COCO label (and so get detected, and may be handled by people).
+enum class ObjectKind { kTv, kKeyboard, kMouse, kLaptop, kBook, kCup, kBottle, kChair };
+
+std::string_view CocoLabel(ObjectKind kind);  // "tv", "keyboard", ..., "chair"
+// Parses the COCO labels CocoLabel gives; throws InputError naming `parameter` otherwise.
+ObjectKind ParseObjectKind(std::string_view label, const std::string& parameter);
+// The COCO-80 class index of a label ("person" = 0, "cup" = 41, ...), or -1 for a label hoidslam never draws.
+int CocoClassId(std::string_view label);
+// Half extents of an object's bounding box in its local frame (the box stands on z = 0).
+Eigen::Vector3d ObjectHalfExtents(ObjectKind kind);
+// True when a person carries the object with both hands (books, laptops, monitors, keyboards, chairs).
+bool IsTwoHanded(ObjectKind kind);
+
+struct OfficeObject {
+  std::string name;  // unique, e.g. "cup_1"; scenarios refer to objects by it
+  ObjectKind kind = ObjectKind::kCup;
+  Eigen::Vector2d position = {0.0, 0.0};  // base centre, world x, y
+  std::optional<double> z;                // base height; absent = on whatever desk is below, else the floor
+  double yaw_deg = 0.0;
+  int variant = 0;  // texture variant (book cover, cup print, ...)
+};
+
+struct Desk {
+  std::string name;
+  Eigen::Vector2d position = {0.0, 0.0};  // centre of the top, world x, y
+  double yaw_deg = 0.0;                   // direction of the desk's long side
+  Eigen::Vector2d size = {1.6, 0.8};      // long side, depth; metres
+  double height = 0.74;                   // height of the top surface, metres
+};
+
+struct Shelf {
+  std::string name;
+  Eigen::Vector2d position = {0.0, 0.0};    // centre of the footprint
+  double yaw_deg = 0.0;                     // direction the open side faces
+  Eigen::Vector3d size = {1.0, 0.35, 1.9};  // width, depth, height; metres
+  int boards = 4;                           // shelf boards, >= 2
+};
+
+struct OfficeLayout {
+  Eigen::Vector3d room = {8.0, 6.0, 2.8};  // metres
+  std::vector<Desk> desks;
+  std::vector<Shelf> shelves;
+  std::vector<OfficeObject> objects;
+
+  // Base height of a thing standing at (x, y): the top of the desk there, else the floor.
+  double SupportHeightAt(const Eigen::Vector2d& xy) const;
+  // True when (x, y) lies on a desk or shelf footprint grown by `margin` metres (where a person cannot stand).
+  bool IsBlocked(const Eigen::Vector2d& xy, double margin) const;
+  // A walking route from `from` to `to` keeping `clearance` metres from desks and shelves: the waypoints after
+  // `from`, ending with `to`. Straight when nothing is in the way, else the shortest path via the corners of
+  // the footprints grown by the clearance. A footprint that `from` or `to` itself is too close to keeps only a
+  // token margin (people walk up to desks), and when no way round exists the route is straight.
+  std::vector<Eigen::Vector2d> Route(const Eigen::Vector2d& from, const Eigen::Vector2d& to, double clearance) const;
+  // The object named `name`, or nullptr.
+  const OfficeObject* FindObject(std::string_view name) const;
+  // The resting pose of `object` (its base height resolved with SupportHeightAt when not given).
+  core::Pose RestPose(const OfficeObject& object) const;
+  // Throws InputError "<source>: <key>: ..." for duplicate names, a non-positive size, or anything outside
+  // the room; `key` is the layout's key in the scenario ("office").
+  void Check(const std::string& source, const std::string& key) const;
+};
+
+// The office every shipped scenario uses: 4 desks with monitors, keyboards, mice, laptops, books, cups and
+// bottles, 6 chairs and a shelf of books in an 8 x 6 x 2.8 m room. Object names: docs/synthetic-benchmark.md.
+OfficeLayout DefaultOfficeLayout();
+
+// Boxes of an object in its local frame, textured from `textures`.
+std::vector<Box> ObjectParts(ObjectKind kind, int variant, const TextureSet& textures);
+
+// Builds the static structure (room, desks, shelves, posters) as instances with label "", ids counting up
+// from `first_id`.
+std::vector<SceneInstance> BuildStructure(const OfficeLayout& layout, const TextureSet& textures, int first_id);
+
+}  // namespace hoidslam::synth

@@ -1,0 +1,134 @@
+#include "hoidslam/synth/office.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <set>
+#include <string>
+
+#include "hoidslam/core/error.h"
+
+namespace hoidslam::synth {
+namespace {
+
+using ::testing::HasSubstr;
+
+constexpr ObjectKind kAllKinds[] = {ObjectKind::kTv,   ObjectKind::kKeyboard, ObjectKind::kMouse,  ObjectKind::kLaptop,
+                                    ObjectKind::kBook, ObjectKind::kCup,      ObjectKind::kBottle, ObjectKind::kChair};
+
+TEST(Office, DefaultLayoutIsValidAndHasEveryKindOfObject) {
+  const OfficeLayout office = DefaultOfficeLayout();
+  EXPECT_NO_THROW(office.Check("office.json", "office"));
+  EXPECT_EQ(office.desks.size(), 4U);
+  std::set<ObjectKind> kinds;
+  int chairs = 0;
+  for (const OfficeObject& object : office.objects) {
+    kinds.insert(object.kind);
+    chairs += object.kind == ObjectKind::kChair ? 1 : 0;
+  }
+  EXPECT_EQ(kinds.size(), std::size(kAllKinds));
+  EXPECT_GE(chairs, 4);
+  EXPECT_LE(chairs, 6);
+}
+
+TEST(Office, ObjectsStandOnTheDeskBelowThemOrTheFloor) {
+  const OfficeLayout office = DefaultOfficeLayout();
+  EXPECT_DOUBLE_EQ(office.RestPose(*office.FindObject("tv_1")).translation().z(), 0.74);
+  EXPECT_DOUBLE_EQ(office.RestPose(*office.FindObject("chair_1")).translation().z(), 0.0);
+  EXPECT_DOUBLE_EQ(office.RestPose(*office.FindObject("book_4")).translation().z(), 0.66);  // on a shelf board
+  EXPECT_DOUBLE_EQ(office.SupportHeightAt({3.2, 3.9}), 0.74);
+  EXPECT_DOUBLE_EQ(office.SupportHeightAt({3.2, 2.0}), 0.0);
+  EXPECT_TRUE(office.IsBlocked({3.2, 3.9}, 0.0));
+  EXPECT_TRUE(office.IsBlocked({3.2, 3.4}, 0.25));
+  EXPECT_FALSE(office.IsBlocked({3.2, 2.5}, 0.25));
+}
+
+TEST(Office, PartsLieWithinTheDeclaredExtents) {
+  const TextureSet textures;
+  for (const ObjectKind kind : kAllKinds) {
+    SCOPED_TRACE(std::string(CocoLabel(kind)));
+    const Eigen::Vector3d ext = ObjectHalfExtents(kind);
+    const std::vector<Box> parts = ObjectParts(kind, 1, textures);
+    ASSERT_FALSE(parts.empty());
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e9);
+    Eigen::Vector3d hi = -lo;
+    for (const Box& box : parts) {
+      for (int corner = 0; corner < 8; ++corner) {
+        const Eigen::Vector3d signs(corner & 1 ? 1 : -1, corner & 2 ? 1 : -1, corner & 4 ? 1 : -1);
+        const Eigen::Vector3d p = box.T_wb * box.half_size.cwiseProduct(signs);
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+      }
+    }
+    // The object stands on z = 0, and the extents enclose the parts tightly (to a centimetre on the wider side).
+    EXPECT_NEAR(lo.z(), 0.0, 1e-9);
+    EXPECT_NEAR(hi.z(), 2.0 * ext.z(), 0.01);
+    for (int axis = 0; axis < 2; ++axis) {
+      EXPECT_LE(hi[axis], ext[axis] + 1e-9);
+      EXPECT_LE(-lo[axis], ext[axis] + 1e-9);
+      EXPECT_NEAR(std::max(hi[axis], -lo[axis]), ext[axis], 0.01);
+    }
+  }
+}
+
+TEST(Office, RoutesGoRoundDesksAndShelves) {
+  const OfficeLayout office = DefaultOfficeLayout();
+  // In the open: straight.
+  const auto straight = office.Route({1.0, 2.5}, {7.0, 2.5}, 0.3);
+  ASSERT_EQ(straight.size(), 1U);
+  EXPECT_TRUE(straight[0].isApprox(Eigen::Vector2d(7.0, 2.5)));
+  // From in front of the middle desks to behind them: round a corner, never over a desk or the shelf.
+  const Eigen::Vector2d from(3.6, 2.6);
+  const Eigen::Vector2d to(3.6, 4.95);
+  const auto route = office.Route(from, to, 0.3);
+  ASSERT_GE(route.size(), 2U);
+  EXPECT_TRUE(route.back().isApprox(to));
+  Eigen::Vector2d a = from;
+  double length = 0.0;
+  for (const Eigen::Vector2d& b : route) {
+    for (double s = 0.0; s <= 1.0; s += 0.01) EXPECT_FALSE(office.IsBlocked(a + s * (b - a), 0.25)) << b.transpose();
+    length += (b - a).norm();
+    a = b;
+  }
+  EXPECT_LT(length, 6.0);  // round the nearer end of the desk row, not the far one
+}
+
+TEST(Office, LabelsAreCocoClasses) {
+  EXPECT_EQ(CocoClassId("person"), 0);
+  EXPECT_EQ(CocoClassId(CocoLabel(ObjectKind::kTv)), 62);
+  EXPECT_EQ(CocoClassId(CocoLabel(ObjectKind::kBook)), 73);
+  EXPECT_EQ(CocoClassId("dog"), -1);
+  EXPECT_EQ(ParseObjectKind("laptop", "p"), ObjectKind::kLaptop);
+  EXPECT_THROW(ParseObjectKind("mug", "p"), core::InputError);
+}
+
+TEST(Office, CheckNamesTheBadEntry) {
+  OfficeLayout office = DefaultOfficeLayout();
+  office.objects.push_back({"tv_1", ObjectKind::kCup, {1.0, 1.0}, std::nullopt, 0.0, 0});
+  try {
+    office.Check("o.json", "office");
+    FAIL() << "no error";
+  } catch (const core::InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("o.json: office.objects["));
+    EXPECT_THAT(e.what(), HasSubstr("duplicate name 'tv_1'"));
+  }
+  office = DefaultOfficeLayout();
+  office.desks[1].position = {9.0, 1.0};
+  EXPECT_THROW(office.Check("o.json", "office"), core::InputError);
+}
+
+TEST(Office, StructureIsUnlabelledWithConsecutiveIds) {
+  const TextureSet textures;
+  const std::vector<SceneInstance> structure = BuildStructure(DefaultOfficeLayout(), textures, 1);
+  ASSERT_GE(structure.size(), 8U);  // floor, ceiling, walls, wall panels, 4 desks, shelf, cabinet
+  for (std::size_t i = 0; i < structure.size(); ++i) {
+    EXPECT_EQ(structure[i].id, static_cast<int>(i) + 1);
+    EXPECT_TRUE(structure[i].label.empty());
+    EXPECT_FALSE(structure[i].moving);
+    for (const Box& box : structure[i].parts) EXPECT_LT(box.texture, textures.size());
+  }
+}
+
+}  // namespace
+}  // namespace hoidslam::synth

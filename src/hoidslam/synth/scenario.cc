@@ -1,0 +1,474 @@
+#include "hoidslam/synth/scenario.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <set>
+#include <sstream>
+
+#include "hoidslam/core/enum_names.h"
+#include "hoidslam/core/error.h"
+#include "hoidslam/synth/builtin_scenarios.h"
+
+namespace hoidslam::synth {
+namespace {
+
+using nlohmann::json;
+
+constexpr core::EnumNames<ActionType, 10> kActionNames = {{
+    {ActionType::kWalkTo, "walk_to"},
+    {ActionType::kStop, "stop"},
+    {ActionType::kPickUp, "pick_up"},
+    {ActionType::kCarryTo, "carry_to"},
+    {ActionType::kPutDown, "put_down"},
+    {ActionType::kSitOn, "sit_on"},
+    {ActionType::kPush, "push"},
+    {ActionType::kStandAt, "stand_at"},
+    {ActionType::kGesture, "gesture"},
+    {ActionType::kLeave, "leave"},
+}};
+
+// A JSON value and its key path ("people[1].actions[3]"), for messages that name the key.
+class Node {
+ public:
+  Node(const json& value, std::string key, const std::string& source)
+      : value_(value), key_(std::move(key)), source_(source) {}
+
+  const std::string& key() const { return key_; }
+  const json& value() const { return value_; }
+
+  [[noreturn]] void Fail(const std::string& what) const {
+    throw core::InputError::InFile(source_, fmt::format("{}: {}", key_.empty() ? "(top level)" : key_, what));
+  }
+
+  bool Has(const std::string& name) const { return value_.is_object() && value_.contains(name); }
+
+  Node Child(const std::string& name) const {
+    if (!Has(name)) Fail(fmt::format("missing key '{}'", name));
+    return Node(value_.at(name), key_.empty() ? name : key_ + "." + name, source_);
+  }
+
+  Node Element(std::size_t i) const { return Node(value_.at(i), fmt::format("{}[{}]", key_, i), source_); }
+
+  // Rejects keys other than `allowed`, so that a misspelt key is an error rather than silently ignored.
+  void AllowOnly(std::initializer_list<std::string_view> allowed) const {
+    RequireObject();
+    for (const auto& item : value_.items()) {
+      if (std::find(allowed.begin(), allowed.end(), item.key()) != allowed.end()) continue;
+      std::string names;
+      for (const std::string_view name : allowed) names += (names.empty() ? "" : ", ") + std::string(name);
+      Node(item.value(), key_.empty() ? item.key() : key_ + "." + item.key(), source_)
+          .Fail(fmt::format("unknown key (allowed here: {})", names));
+    }
+  }
+
+  void RequireObject() const {
+    if (!value_.is_object()) Fail(fmt::format("must be an object, not {}", value_.type_name()));
+  }
+
+  std::size_t ArraySize() const {
+    if (!value_.is_array()) Fail(fmt::format("must be an array, not {}", value_.type_name()));
+    return value_.size();
+  }
+
+  double Number() const {
+    if (!value_.is_number()) Fail(fmt::format("must be a number, not {}", value_.type_name()));
+    return value_.get<double>();
+  }
+  double Number(double lo, double hi) const {
+    const double v = Number();
+    if (!(v >= lo && v <= hi)) Fail(fmt::format("{} is outside [{}, {}]", v, lo, hi));
+    return v;
+  }
+  std::uint64_t Unsigned() const {
+    if (!value_.is_number_unsigned()) Fail("must be a whole number >= 0");
+    return value_.get<std::uint64_t>();
+  }
+  int Int(int lo, int hi) const {
+    if (!value_.is_number_integer()) Fail("must be a whole number");
+    const auto v = value_.get<std::int64_t>();
+    if (v < lo || v > hi) Fail(fmt::format("{} is outside [{}, {}]", v, lo, hi));
+    return static_cast<int>(v);
+  }
+  bool Bool() const {
+    if (!value_.is_boolean()) Fail(fmt::format("must be true or false, not {}", value_.type_name()));
+    return value_.get<bool>();
+  }
+  std::string String() const {
+    if (!value_.is_string()) Fail(fmt::format("must be a string, not {}", value_.type_name()));
+    return value_.get<std::string>();
+  }
+  template <int N>
+  Eigen::Matrix<double, N, 1> Vector() const {
+    if (!value_.is_array() || value_.size() != N) Fail(fmt::format("must be an array of {} numbers", N));
+    Eigen::Matrix<double, N, 1> v;
+    for (int i = 0; i < N; ++i) v[i] = Element(static_cast<std::size_t>(i)).Number();
+    return v;
+  }
+
+  // Optional members: the default when absent.
+  double NumberOr(const std::string& name, double fallback, double lo, double hi) const {
+    return Has(name) ? Child(name).Number(lo, hi) : fallback;
+  }
+
+ private:
+  const json& value_;
+  std::string key_;
+  const std::string& source_;
+};
+
+ActionType ParseActionType(const Node& node) {
+  const std::string name = node.String();
+  std::string known;
+  for (const auto& [type, text] : kActionNames) {
+    if (text == name) return type;
+    known += (known.empty() ? "" : ", ") + std::string(text);
+  }
+  node.Fail(fmt::format("unknown action '{}' (known: {})", name, known));
+}
+
+core::Pose ParseAnchor(const Node& camera) {
+  const Eigen::Vector3d position = camera.Child("position").Vector<3>();
+  if (camera.Has("look_at")) {
+    const Node look_at = camera.Child("look_at");
+    try {
+      return CameraPoseLookingAt(position, look_at.Vector<3>());
+    } catch (const core::InputError& e) {
+      look_at.Fail(e.what());
+    }
+  }
+  return CameraPoseFromYawPitch(position, camera.NumberOr("yaw_deg", 90.0, -360.0, 360.0),
+                                camera.NumberOr("pitch_deg", 0.0, -89.0, 89.0));
+}
+
+CameraSpec ParseCamera(const Node& camera) {
+  camera.AllowOnly({"tum", "procedural", "fps", "frames", "amplitude", "angle_amplitude_deg", "period", "start_time",
+                    "position", "look_at", "yaw_deg", "pitch_deg"});
+  CameraSpec spec;
+  spec.T_anchor = ParseAnchor(camera);
+  if (camera.Has("tum") == camera.Has("procedural")) camera.Fail("give exactly one of 'tum' and 'procedural'");
+  if (camera.Has("tum")) {
+    spec.tum = camera.Child("tum").String();
+    if (spec.tum.empty() || spec.tum.find('/') != std::string::npos || spec.tum.find("..") != std::string::npos) {
+      camera.Child("tum").Fail("must be a TUM path name such as 'fr3_walking_xyz'");
+    }
+    for (const char* key : {"fps", "frames", "amplitude", "angle_amplitude_deg", "period", "start_time"}) {
+      if (camera.Has(key)) camera.Child(key).Fail("only for a procedural camera");
+    }
+    return spec;
+  }
+  ProceduralPathOptions& p = spec.procedural;
+  const Node motion = camera.Child("procedural");
+  try {
+    p.motion = ParseProceduralMotion(motion.String(), motion.key());
+  } catch (const core::InputError& e) {
+    motion.Fail(e.what());
+  }
+  p.fps = camera.NumberOr("fps", p.fps, 1.0, 1000.0);
+  if (camera.Has("frames")) p.frames = static_cast<std::size_t>(camera.Child("frames").Int(1, 1000000));
+  p.amplitude = camera.NumberOr("amplitude", p.amplitude, 0.0, 3.0);
+  p.angle_amplitude_deg = camera.NumberOr("angle_amplitude_deg", p.angle_amplitude_deg, 0.0, 90.0);
+  p.period = camera.NumberOr("period", p.period, 0.1, 1e6);
+  p.start_time = camera.NumberOr("start_time", p.start_time, 0.0, 1e10);
+  p.T_anchor = spec.T_anchor;
+  return spec;
+}
+
+std::string ObjectName(const Node& node, const OfficeLayout& office) {
+  const std::string name = node.String();
+  if (office.FindObject(name) == nullptr) node.Fail(fmt::format("unknown object '{}'", name));
+  return name;
+}
+
+Eigen::Vector2d PointInRoom(const Node& node, const OfficeLayout& office) {
+  const Eigen::Vector2d xy = node.Vector<2>();
+  if (xy.x() < 0.0 || xy.y() < 0.0 || xy.x() > office.room.x() || xy.y() > office.room.y()) {
+    node.Fail(
+        fmt::format("({}, {}) is outside the room (0..{}, 0..{})", xy.x(), xy.y(), office.room.x(), office.room.y()));
+  }
+  return xy;
+}
+
+Action ParseAction(const Node& node, const OfficeLayout& office) {
+  node.RequireObject();
+  Action action;
+  action.key = node.key();
+  action.type = ParseActionType(node.Child("action"));
+  auto require_chair = [&](const Node& object) {
+    if (office.FindObject(action.object)->kind != ObjectKind::kChair) {
+      object.Fail(fmt::format("'{}' is not a chair", action.object));
+    }
+  };
+  auto duration = [&] { action.duration = node.Child("duration").Number(0.01, 1e5); };
+  switch (action.type) {
+    case ActionType::kWalkTo:
+    case ActionType::kCarryTo:
+    case ActionType::kPutDown:
+    case ActionType::kLeave:
+      node.AllowOnly({"action", "at", "to"});
+      action.to = PointInRoom(node.Child("to"), office);
+      break;
+    case ActionType::kStop:
+    case ActionType::kGesture:
+      node.AllowOnly({"action", "at", "duration"});
+      duration();
+      break;
+    case ActionType::kPickUp:
+      node.AllowOnly({"action", "at", "object"});
+      action.object = ObjectName(node.Child("object"), office);
+      break;
+    case ActionType::kSitOn:
+      node.AllowOnly({"action", "at", "object", "duration", "gesture"});
+      action.object = ObjectName(node.Child("object"), office);
+      require_chair(node.Child("object"));
+      duration();
+      if (node.Has("gesture")) action.gesture = node.Child("gesture").Bool();
+      break;
+    case ActionType::kPush:
+      node.AllowOnly({"action", "at", "object", "to"});
+      action.object = ObjectName(node.Child("object"), office);
+      require_chair(node.Child("object"));
+      action.to = PointInRoom(node.Child("to"), office);
+      break;
+    case ActionType::kStandAt:
+      node.AllowOnly({"action", "at", "object", "duration", "distance", "position"});
+      action.object = ObjectName(node.Child("object"), office);
+      duration();
+      action.distance = node.NumberOr("distance", action.distance, 0.3, 5.0);
+      if (node.Has("position")) action.position = PointInRoom(node.Child("position"), office);
+      break;
+  }
+  if (node.Has("at")) action.at = node.Child("at").Number(0.0, 1e6);
+  return action;
+}
+
+cv::Vec3f Tint(const Node& node) {
+  const Eigen::Vector3d v = node.Vector<3>();
+  if ((v.array() < 0.0).any() || (v.array() > 2.0).any()) node.Fail("every channel must be in [0, 2]");
+  return {static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z())};
+}
+
+PersonSpec ParsePerson(const Node& node, const OfficeLayout& office) {
+  node.AllowOnly(
+      {"name", "height", "shirt", "trousers", "skin", "hair", "start", "facing_deg", "enter_at", "speed", "actions"});
+  PersonSpec person;
+  person.name = node.Child("name").String();
+  if (person.name.empty()) node.Child("name").Fail("must not be empty");
+  person.shape.height = node.NumberOr("height", person.shape.height, 1.2, 2.2);
+  if (node.Has("shirt")) person.shape.shirt = node.Child("shirt").Int(0, 1000);
+  if (node.Has("trousers")) person.shape.trousers = node.Child("trousers").Int(0, 1000);
+  if (node.Has("skin")) person.shape.skin_tint = Tint(node.Child("skin"));
+  if (node.Has("hair")) person.shape.hair_tint = Tint(node.Child("hair"));
+  person.start = PointInRoom(node.Child("start"), office);
+  person.facing_deg = node.NumberOr("facing_deg", 0.0, -360.0, 360.0);
+  person.enter_at = node.NumberOr("enter_at", 0.0, 0.0, 1e6);
+  person.speed = node.NumberOr("speed", person.speed, 0.2, 3.0);
+  if (node.Has("actions")) {
+    const Node actions = node.Child("actions");
+    for (std::size_t i = 0, n = actions.ArraySize(); i < n; ++i) {
+      person.actions.push_back(ParseAction(actions.Element(i), office));
+      if (person.actions.back().type == ActionType::kLeave && i + 1 != n) {
+        actions.Element(i + 1).Fail("no action can follow 'leave'");
+      }
+    }
+  }
+  return person;
+}
+
+OfficeObject ParseObject(const Node& node) {
+  node.AllowOnly({"name", "type", "position", "z", "yaw_deg", "variant"});
+  OfficeObject object;
+  object.name = node.Child("name").String();
+  const Node type = node.Child("type");
+  try {
+    object.kind = ParseObjectKind(type.String(), type.key());
+  } catch (const core::InputError&) {
+    type.Fail(fmt::format("unknown object type '{}'", type.String()));
+  }
+  object.position = node.Child("position").Vector<2>();
+  if (node.Has("z")) object.z = node.Child("z").Number(0.0, 10.0);
+  object.yaw_deg = node.NumberOr("yaw_deg", 0.0, -360.0, 360.0);
+  if (node.Has("variant")) object.variant = node.Child("variant").Int(0, 1000);
+  return object;
+}
+
+OfficeLayout ParseOffice(const Node& node, const std::string& source) {
+  if (node.value().is_string()) {
+    if (node.String() != "default") node.Fail("must be \"default\" or an object describing the layout");
+    return DefaultOfficeLayout();
+  }
+  node.AllowOnly({"base", "room", "desks", "shelves", "objects"});
+  OfficeLayout office;
+  if (node.Has("base")) {
+    const Node base = node.Child("base");
+    if (base.String() == "default") {
+      office = DefaultOfficeLayout();
+    } else if (base.String() != "empty") {
+      base.Fail("must be \"default\" or \"empty\"");
+    }
+  }
+  std::set<std::string> base_names;
+  for (const Desk& desk : office.desks) base_names.insert(desk.name);
+  for (const Shelf& shelf : office.shelves) base_names.insert(shelf.name);
+  for (const OfficeObject& object : office.objects) base_names.insert(object.name);
+  if (node.Has("room")) office.room = node.Child("room").Vector<3>();
+  if (node.Has("desks")) {
+    const Node desks = node.Child("desks");
+    for (std::size_t i = 0, n = desks.ArraySize(); i < n; ++i) {
+      const Node d = desks.Element(i);
+      d.AllowOnly({"name", "position", "yaw_deg", "size", "height"});
+      Desk desk;
+      desk.name = d.Child("name").String();
+      desk.position = d.Child("position").Vector<2>();
+      desk.yaw_deg = d.NumberOr("yaw_deg", 0.0, -360.0, 360.0);
+      if (d.Has("size")) desk.size = d.Child("size").Vector<2>();
+      desk.height = d.NumberOr("height", desk.height, 0.0, 10.0);
+      office.desks.push_back(desk);
+    }
+  }
+  if (node.Has("shelves")) {
+    const Node shelves = node.Child("shelves");
+    for (std::size_t i = 0, n = shelves.ArraySize(); i < n; ++i) {
+      const Node s = shelves.Element(i);
+      s.AllowOnly({"name", "position", "yaw_deg", "size", "boards"});
+      Shelf shelf;
+      shelf.name = s.Child("name").String();
+      shelf.position = s.Child("position").Vector<2>();
+      shelf.yaw_deg = s.NumberOr("yaw_deg", 0.0, -360.0, 360.0);
+      if (s.Has("size")) shelf.size = s.Child("size").Vector<3>();
+      if (s.Has("boards")) shelf.boards = s.Child("boards").Int(2, 50);
+      office.shelves.push_back(shelf);
+    }
+  }
+  if (node.Has("objects")) {
+    const Node objects = node.Child("objects");
+    for (std::size_t i = 0, n = objects.ArraySize(); i < n; ++i) {
+      const std::string name = objects.Element(i).Child("name").String();
+      // Clashes with the base layout are reported here, where the user's own index is known.
+      if (base_names.contains(name)) {
+        objects.Element(i).Child("name").Fail(fmt::format("duplicate name '{}' (the default office has it)", name));
+      }
+      office.objects.push_back(ParseObject(objects.Element(i)));
+    }
+  }
+  office.Check(source, node.key());
+  return office;
+}
+
+DetectorNoiseOptions ParseDetectorNoise(const Node& node) {
+  node.AllowOnly({"miss_rate", "box_jitter", "false_positive_rate", "class_confusion_rate", "seed"});
+  DetectorNoiseOptions o;
+  o.miss_rate = node.NumberOr("miss_rate", o.miss_rate, 0.0, 1.0);
+  o.box_jitter = node.NumberOr("box_jitter", o.box_jitter, 0.0, 1.0);
+  o.false_positive_rate = node.NumberOr("false_positive_rate", o.false_positive_rate, 0.0, 100.0);
+  o.class_confusion_rate = node.NumberOr("class_confusion_rate", o.class_confusion_rate, 0.0, 1.0);
+  if (node.Has("seed")) o.seed = node.Child("seed").Unsigned();
+  return o;
+}
+
+SensorNoiseOptions ParseSensorNoise(const Node& node) {
+  node.AllowOnly({"rgb_noise_sigma", "rgb_blur_sigma", "depth_noise_scale", "disparity_step", "min_range", "max_range",
+                  "edge_jump_ratio", "edge_erosion_probability", "dropout_probability"});
+  SensorNoiseOptions o;
+  o.rgb_noise_sigma = node.NumberOr("rgb_noise_sigma", o.rgb_noise_sigma, 0.0, 100.0);
+  o.rgb_blur_sigma = node.NumberOr("rgb_blur_sigma", o.rgb_blur_sigma, 0.0, 10.0);
+  o.depth_noise_scale = node.NumberOr("depth_noise_scale", o.depth_noise_scale, 0.0, 100.0);
+  o.disparity_step = node.NumberOr("disparity_step", o.disparity_step, 0.0, 1.0);
+  o.min_range = node.NumberOr("min_range", o.min_range, 0.0, 100.0);
+  o.max_range = node.NumberOr("max_range", o.max_range, 0.0, 100.0);
+  o.edge_jump_ratio = node.NumberOr("edge_jump_ratio", o.edge_jump_ratio, 1e-6, 100.0);
+  o.edge_erosion_probability = node.NumberOr("edge_erosion_probability", o.edge_erosion_probability, 0.0, 1.0);
+  o.dropout_probability = node.NumberOr("dropout_probability", o.dropout_probability, 0.0, 1.0);
+  if (o.max_range <= o.min_range) node.Child("max_range").Fail("must be greater than min_range");
+  return o;
+}
+
+TextureOptions ParseTextures(const Node& node) {
+  node.AllowOnly({"seed", "size", "variants"});
+  TextureOptions o;
+  if (node.Has("seed")) o.seed = node.Child("seed").Unsigned();
+  if (node.Has("size")) {
+    o.size = node.Child("size").Int(16, 2048);
+    if ((o.size & (o.size - 1)) != 0) node.Child("size").Fail("must be a power of two");
+  }
+  if (node.Has("variants")) o.variants = node.Child("variants").Int(1, 64);
+  return o;
+}
+
+}  // namespace
+
+std::string_view ToString(ActionType type) { return core::EnumName(kActionNames, type); }
+
+Scenario ParseScenario(std::string_view text, const std::string& source) {
+  Scenario scenario;
+  scenario.source = source;
+  try {
+    scenario.document = json::parse(text.begin(), text.end());
+  } catch (const json::parse_error& e) {
+    const std::size_t end = std::min<std::size_t>(e.byte == 0 ? 0 : e.byte - 1, text.size());
+    const std::size_t line =
+        1 + static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(end), '\n'));
+    throw core::InputError::AtLine(source, line, "not valid JSON: " + std::string(e.what()));
+  }
+  const Node root(scenario.document, "", scenario.source);
+  root.AllowOnly({"name", "description", "seed", "frames", "camera", "office", "people", "detector_noise",
+                  "sensor_noise", "textures"});
+  scenario.name = root.Child("name").String();
+  if (scenario.name.empty()) root.Child("name").Fail("must not be empty");
+  if (root.Has("description")) scenario.description = root.Child("description").String();
+  if (root.Has("seed")) scenario.seed = root.Child("seed").Unsigned();
+  if (root.Has("frames")) scenario.max_frames = static_cast<std::size_t>(root.Child("frames").Int(0, 10000000));
+  scenario.camera = ParseCamera(root.Child("camera"));
+  scenario.office = root.Has("office") ? ParseOffice(root.Child("office"), scenario.source) : DefaultOfficeLayout();
+  if (root.Has("people")) {
+    const Node people = root.Child("people");
+    std::set<std::string> names;
+    for (std::size_t i = 0, n = people.ArraySize(); i < n; ++i) {
+      scenario.people.push_back(ParsePerson(people.Element(i), scenario.office));
+      if (!names.insert(scenario.people.back().name).second) {
+        people.Element(i).Child("name").Fail(fmt::format("duplicate name '{}'", scenario.people.back().name));
+      }
+    }
+  }
+  if (root.Has("detector_noise")) scenario.detector_noise = ParseDetectorNoise(root.Child("detector_noise"));
+  if (root.Has("sensor_noise")) scenario.sensor_noise = ParseSensorNoise(root.Child("sensor_noise"));
+  if (root.Has("textures")) scenario.textures = ParseTextures(root.Child("textures"));
+  return scenario;
+}
+
+std::vector<std::string> BuiltinScenarioNames() {
+  std::vector<std::string> names;
+  for (const EmbeddedFile& file : BuiltinScenarioFiles()) names.emplace_back(file.name);
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+std::optional<std::string_view> BuiltinScenarioText(std::string_view name) {
+  for (const EmbeddedFile& file : BuiltinScenarioFiles()) {
+    if (file.name == name) return file.text;
+  }
+  return std::nullopt;
+}
+
+Scenario LoadScenario(const std::string& name_or_path) {
+  if (const auto text = BuiltinScenarioText(name_or_path)) {
+    return ParseScenario(*text, fmt::format("scenarios/{}.json", name_or_path));
+  }
+  const std::filesystem::path path(name_or_path);
+  std::ifstream file(path, std::ios::binary);
+  if (!file) {
+    throw core::InputError::InFile(path, fmt::format("no such scenario file, and no shipped scenario of that name "
+                                                     "(shipped: {})",
+                                                     fmt::join(BuiltinScenarioNames(), ", ")));
+  }
+  std::ostringstream text;
+  text << file.rdbuf();
+  return ParseScenario(text.str(), path.string());
+}
+
+}  // namespace hoidslam::synth

@@ -1,0 +1,183 @@
+#include "hoidslam/synth/scenario.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <string>
+
+#include "hoidslam/core/error.h"
+#include "support/temp_dir.h"
+
+namespace hoidslam::synth {
+namespace {
+
+using ::testing::HasSubstr;
+
+// The message of the InputError that parsing `text` throws (fails the test when nothing is thrown).
+std::string ParseError(const std::string& text) {
+  try {
+    ParseScenario(text, "x.json");
+  } catch (const core::InputError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no error for: " << text;
+  return "";
+}
+
+// A valid scenario with `people` (a JSON array) and `extra` top-level members.
+std::string Valid(const std::string& people = "[]", const std::string& extra = "") {
+  return R"({"name": "t", "camera": {"procedural": "xyz", "position": [4, 1, 1.4], "look_at": [4, 4, 1]},)" + extra +
+         R"( "people": )" + people + "}";
+}
+
+TEST(Scenario, ShipsTheTumLikeScenariosWithTheirControls) {
+  const std::vector<std::string> names = BuiltinScenarioNames();
+  for (const std::string base :
+       {"walking_static", "walking_xyz", "walking_halfsphere", "walking_rpy", "sitting_static", "carry"}) {
+    EXPECT_THAT(names, ::testing::Contains(base));
+    EXPECT_THAT(names, ::testing::Contains(base + "_static"));
+  }
+}
+
+TEST(Scenario, EveryShippedScenarioParsesAndControlsMatchTheirCamera) {
+  for (const std::string& name : BuiltinScenarioNames()) {
+    SCOPED_TRACE(name);
+    const Scenario scenario = LoadScenario(name);
+    EXPECT_EQ(scenario.name, name);
+    EXPECT_EQ(scenario.source, "scenarios/" + name + ".json");
+    if (name.ends_with("_static") && name != "walking_static" && name != "sitting_static") {
+      EXPECT_TRUE(scenario.people.empty());
+      const Scenario full = LoadScenario(name.substr(0, name.size() - 7));
+      EXPECT_FALSE(full.people.empty());
+      EXPECT_EQ(full.camera.tum, scenario.camera.tum);
+      EXPECT_TRUE(full.camera.T_anchor.isApprox(scenario.camera.T_anchor));
+    }
+  }
+}
+
+TEST(Scenario, ParsesPeopleAndActions) {
+  const Scenario s =
+      ParseScenario(Valid(R"([{"name": "a", "height": 1.6, "shirt": 2, "start": [1, 2], "facing_deg": 90, "enter_at": 3,
+                  "actions": [{"action": "walk_to", "to": [3, 2], "at": 4},
+                              {"action": "pick_up", "object": "cup_1"},
+                              {"action": "put_down", "to": [2.6, 3.7]},
+                              {"action": "sit_on", "object": "chair_1", "duration": 2, "gesture": true},
+                              {"action": "stand_at", "object": "tv_1", "duration": 1, "distance": 1.2},
+                              {"action": "leave", "to": [7.9, 1]}]}])",
+                          R"("seed": 42, "frames": 10, "detector_noise": {"miss_rate": 0.1},)"),
+                    "x.json");
+  EXPECT_EQ(s.seed, 42U);
+  EXPECT_EQ(s.max_frames, 10U);
+  EXPECT_DOUBLE_EQ(s.detector_noise.miss_rate, 0.1);
+  ASSERT_EQ(s.people.size(), 1U);
+  const PersonSpec& a = s.people[0];
+  EXPECT_DOUBLE_EQ(a.shape.height, 1.6);
+  EXPECT_EQ(a.shape.shirt, 2);
+  EXPECT_DOUBLE_EQ(a.enter_at, 3.0);
+  ASSERT_EQ(a.actions.size(), 6U);
+  EXPECT_EQ(a.actions[0].type, ActionType::kWalkTo);
+  EXPECT_EQ(a.actions[0].at, 4.0);
+  EXPECT_EQ(a.actions[1].object, "cup_1");
+  EXPECT_EQ(a.actions[1].key, "people[0].actions[1]");
+  EXPECT_TRUE(a.actions[3].gesture);
+  EXPECT_DOUBLE_EQ(a.actions[4].distance, 1.2);
+  EXPECT_EQ(a.actions[5].type, ActionType::kLeave);
+}
+
+TEST(Scenario, AnUnknownObjectIsNamedWithItsKey) {
+  EXPECT_THAT(ParseError(Valid(R"([{"name": "a", "start": [1, 2], "actions": [
+                  {"action": "walk_to", "to": [3, 2]}, {"action": "pick_up", "object": "mug7"}]}])")),
+              HasSubstr("x.json: people[0].actions[1].object: unknown object 'mug7'"));
+}
+
+TEST(Scenario, AnUnknownActionIsNamedWithItsKey) {
+  EXPECT_THAT(ParseError(Valid(R"([{"name": "a", "start": [1, 2], "actions": [{"action": "dance"}]}])")),
+              HasSubstr("x.json: people[0].actions[0].action: unknown action 'dance'"));
+}
+
+TEST(Scenario, AMisspeltKeyIsAnError) {
+  EXPECT_THAT(ParseError(Valid(R"([{"name": "a", "start": [1, 2], "actoins": []}])")),
+              HasSubstr("x.json: people[0].actoins: unknown key"));
+  EXPECT_THAT(ParseError(Valid("[]", R"("sed": 3,)")), HasSubstr("x.json: sed: unknown key"));
+  EXPECT_THAT(ParseError(Valid(R"([{"name": "a", "start": [1, 2], "actions": [
+                  {"action": "walk_to", "to": [3, 2], "duration": 3}]}])")),
+              HasSubstr("people[0].actions[0].duration: unknown key"));
+}
+
+TEST(Scenario, AWrongTypeIsNamedWithItsKey) {
+  EXPECT_THAT(ParseError(Valid("[]", R"("seed": "one",)")), HasSubstr("x.json: seed: must be a whole number"));
+  EXPECT_THAT(ParseError(Valid(R"([{"name": "a", "start": [1]}])")),
+              HasSubstr("people[0].start: must be an array of 2 numbers"));
+  EXPECT_THAT(ParseError(Valid(R"([{"name": "a", "start": [1, 2], "height": 3.5}])")),
+              HasSubstr("people[0].height: 3.5 is outside [1.2, 2.2]"));
+  EXPECT_THAT(ParseError(Valid(R"({"name": "a"})")), HasSubstr("people: must be an array"));
+}
+
+TEST(Scenario, MissingAndInconsistentValuesAreNamed) {
+  EXPECT_THAT(ParseError(R"({"name": "t"})"), HasSubstr("x.json: (top level): missing key 'camera'"));
+  EXPECT_THAT(ParseError(Valid(R"([{"name": "a", "start": [1, 2], "actions": [{"action": "pick_up"}]}])")),
+              HasSubstr("people[0].actions[0]: missing key 'object'"));
+  EXPECT_THAT(ParseError(Valid(R"([{"name": "a", "start": [1, 2], "actions": [
+                  {"action": "sit_on", "object": "cup_1", "duration": 2}]}])")),
+              HasSubstr("people[0].actions[0].object: 'cup_1' is not a chair"));
+  EXPECT_THAT(ParseError(Valid(R"([{"name": "a", "start": [1, 2], "actions": [
+                  {"action": "walk_to", "to": [30, 2]}]}])")),
+              HasSubstr("people[0].actions[0].to: (30, 2) is outside the room"));
+  EXPECT_THAT(ParseError(Valid(R"([{"name": "a", "start": [1, 2]}, {"name": "a", "start": [1, 3]}])")),
+              HasSubstr("people[1].name: duplicate name 'a'"));
+  EXPECT_THAT(ParseError(Valid(R"([{"name": "a", "start": [1, 2], "actions": [
+                  {"action": "leave", "to": [1, 1]}, {"action": "stop", "duration": 1}]}])")),
+              HasSubstr("people[0].actions[1]: no action can follow 'leave'"));
+  EXPECT_THAT(ParseError(R"({"name": "t", "camera": {"tum": "fr3_walking_xyz", "procedural": "xyz",
+                             "position": [4, 1, 1.4]}})"),
+              HasSubstr("camera: give exactly one of 'tum' and 'procedural'"));
+  EXPECT_THAT(ParseError(R"({"name": "t", "camera": {"procedural": "zigzag", "position": [4, 1, 1.4]}})"),
+              HasSubstr("camera.procedural"));
+}
+
+TEST(Scenario, CustomOfficeLayoutsAreChecked) {
+  const Scenario s = ParseScenario(
+      Valid("[]",
+            R"("office": {"base": "default", "objects": [{"name": "mug", "type": "cup", "position": [3, 3.8]}]},)"),
+      "x.json");
+  ASSERT_NE(s.office.FindObject("mug"), nullptr);
+  EXPECT_NE(s.office.FindObject("tv_1"), nullptr);
+  EXPECT_THAT(ParseError(Valid("[]", R"("office": {"objects": [{"name": "m", "type": "mug", "position": [3, 3]}]},)")),
+              HasSubstr("office.objects[0].type: unknown object type 'mug'"));
+  EXPECT_THAT(ParseError(Valid("[]", R"("office": {"base": "default", "objects": [
+                  {"name": "cup_1", "type": "cup", "position": [3, 3]}]},)")),
+              HasSubstr("office.objects[0].name: duplicate name 'cup_1'"));
+  EXPECT_THAT(ParseError(Valid("[]", R"("office": {"objects": [{"name": "a", "type": "cup", "position": [3, 3]},
+                                                               {"name": "a", "type": "cup", "position": [3, 4]}]},)")),
+              HasSubstr("office.objects[1].name: duplicate name 'a'"));
+  EXPECT_THAT(ParseError(Valid("[]", R"("office": "big",)")), HasSubstr("office: must be \"default\""));
+}
+
+TEST(Scenario, BrokenJsonNamesTheLine) {
+  EXPECT_THAT(ParseError("{\n  \"name\": \"t\",\n  \"seed\": ,\n}"), HasSubstr("x.json:3: not valid JSON"));
+}
+
+TEST(Scenario, LoadsUserFilesAndNamesMissingOnes) {
+  testing::TempDir temp;
+  const auto file = temp / "mine.json";
+  std::ofstream(file) << Valid();
+  EXPECT_EQ(LoadScenario(file.string()).source, file.string());
+  try {
+    LoadScenario((temp / "nope.json").string());
+    FAIL() << "no error";
+  } catch (const core::InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("nope.json: no such scenario file"));
+    EXPECT_THAT(e.what(), HasSubstr("walking_xyz"));
+  }
+}
+
+TEST(Scenario, PrintedTextIsTheShippedFile) {
+  const auto text = BuiltinScenarioText("walking_xyz");
+  ASSERT_TRUE(text.has_value());
+  EXPECT_THAT(std::string(*text), HasSubstr("\"tum\": \"fr3_walking_xyz\""));
+  EXPECT_FALSE(BuiltinScenarioText("no_such").has_value());
+}
+
+}  // namespace
+}  // namespace hoidslam::synth

@@ -1,0 +1,321 @@
+#include "hoidslam/synth/sequence_writer.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <opencv2/imgcodecs.hpp>
+#include <string>
+
+#include "hoidslam/core/error.h"
+#include "hoidslam/io/detections_file.h"
+#include "hoidslam/io/rgbd_sequence.h"
+#include "hoidslam/io/trajectory_file.h"
+#include "hoidslam/synth/renderer.h"
+#include "hoidslam/synth/test_scenarios.h"
+#include "hoidslam/synth/world.h"
+#include "support/shared_data.h"
+#include "support/temp_dir.h"
+
+namespace hoidslam::synth {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+std::map<std::string, std::string> ReadAllFiles(const fs::path& root) {
+  std::map<std::string, std::string> files;
+  for (const auto& entry : fs::recursive_directory_iterator(root)) {
+    if (!entry.is_regular_file()) continue;
+    std::ifstream in(entry.path(), std::ios::binary);
+    files[fs::relative(entry.path(), root).string()] = {std::istreambuf_iterator<char>(in), {}};
+  }
+  return files;
+}
+
+SynthOptions Options(const fs::path& out, int threads = 2) {
+  SynthOptions options;
+  options.out = out;
+  options.threads = threads;
+  return options;
+}
+
+// A frame of a written sequence re-rendered without noise, with what the world says about it.
+struct CleanFrame {
+  SceneSnapshot snapshot;
+  RenderOutput rendered;
+};
+
+std::vector<CleanFrame> RenderClean(const Scenario& scenario, const core::Trajectory& groundtruth) {
+  const TextureSet textures(scenario.textures);
+  const World world(scenario, textures);
+  const Renderer renderer(core::CameraIntrinsics{}, textures);
+  std::vector<CleanFrame> frames;
+  for (const core::StampedPose& pose : groundtruth) {
+    CleanFrame frame;
+    frame.snapshot = world.Snapshot(pose.timestamp - groundtruth.front().timestamp);
+    frame.rendered = renderer.Render(frame.snapshot, pose.T_wc);
+    frames.push_back(std::move(frame));
+  }
+  return frames;
+}
+
+TEST(SequenceWriter, WritesATumSequenceTheReadersAccept) {
+  testing::TempDir temp;
+  const Scenario scenario = fixtures::SmallScenario(fixtures::kWalkThenStop, 6, "xyz");
+  const SynthResult result = WriteSequence(scenario, Options(temp / "seq"));
+  EXPECT_EQ(result.frames, 6U);
+  EXPECT_FALSE(fs::exists(temp / "seq.partial-"));
+
+  const io::RgbdSequence sequence = io::RgbdSequence::OpenTum(temp / "seq");
+  ASSERT_EQ(sequence.size(), 6U);
+  EXPECT_EQ(sequence.name(), "seq");
+  const core::RgbdFrame frame = sequence.LoadFrame(3);
+  EXPECT_EQ(frame.rgb.size(), cv::Size(640, 480));
+  EXPECT_EQ(cv::imread((temp / "seq" / "mask" / fs::path(sequence.entry(3).rgb_path).filename()).string(),
+                       cv::IMREAD_UNCHANGED)
+                .type(),
+            CV_8U);
+
+  const io::DetectionsFile detections = io::DetectionsFile::Read(temp / "seq" / "detections.jsonl");
+  EXPECT_NO_THROW(detections.CheckCovers(sequence.Timestamps(), sequence.name()));
+  ASSERT_TRUE(detections.header().has_value());
+  EXPECT_EQ(detections.header()->detector, "synthetic ground truth");
+  EXPECT_EQ(detections.header()->sequence, "seq");
+  const io::FrameDetections* first = detections.Find(sequence.Timestamps().front());
+  ASSERT_NE(first, nullptr);
+  EXPECT_THAT(first->detections, ::testing::Contains(::testing::Field(&core::Detection::label, "person")));
+  EXPECT_THAT(first->detections, ::testing::Contains(::testing::Field(&core::Detection::label, "tv")));
+
+  const core::Trajectory groundtruth = io::ReadTumTrajectory(temp / "seq" / "groundtruth.txt");
+  const CameraPath path = ScenarioCameraPath(scenario, {});
+  ASSERT_EQ(groundtruth.size(), 6U);
+  for (std::size_t i = 0; i < 6; ++i) {
+    EXPECT_NEAR(groundtruth[i].timestamp, path.frames()[i].timestamp, 1e-6);
+    EXPECT_TRUE(groundtruth[i].T_wc.isApprox(path.frames()[i].T_wc, 1e-6));
+  }
+  EXPECT_EQ(sequence.groundtruth().size(), 6U);
+  // The event log is JSON Lines; the walker's entry is its first line.
+  std::ifstream events(temp / "seq" / "events.jsonl");
+  std::string line;
+  ASSERT_TRUE(std::getline(events, line));
+  const nlohmann::json enter = nlohmann::json::parse(line);
+  EXPECT_EQ(enter.at("person"), "walker");
+  EXPECT_EQ(enter.at("action"), "enter");
+  EXPECT_NEAR(enter.at("time").get<double>(), path.frames()[0].timestamp, 1e-6);
+  // The scenario copy renders the same thing again.
+  const Scenario copy = LoadScenario((temp / "seq" / "scenario.json").string());
+  EXPECT_EQ(copy.people.size(), 1U);
+  EXPECT_EQ(copy.seed, scenario.seed);
+  EXPECT_EQ(copy.max_frames, scenario.max_frames);
+}
+
+TEST(SequenceWriter, OneSeedGivesByteIdenticalFilesWhateverTheThreads) {
+  testing::TempDir temp;
+  Scenario scenario = fixtures::SmallScenario(fixtures::kWalkThenStop, 10, "xyz");
+  scenario.detector_noise.box_jitter = 0.05;
+  scenario.detector_noise.false_positive_rate = 0.5;
+  // Same folder name (the detections header names it), different parents.
+  WriteSequence(scenario, Options(temp / "a" / "seq", 2));
+  WriteSequence(scenario, Options(temp / "b" / "seq", 1));
+  const auto a = ReadAllFiles(temp / "a" / "seq");
+  const auto b = ReadAllFiles(temp / "b" / "seq");
+  ASSERT_EQ(a.size(), 3U * 10U + 8U);  // rgb, depth, mask per frame; 3 lists, gt, 2 detections, events, scenario
+  for (const auto& [name, bytes] : a) {
+    ASSERT_TRUE(b.contains(name)) << name;
+    EXPECT_TRUE(bytes == b.at(name)) << name << " differs";
+  }
+  // Another seed changes the noise, not the lists.
+  scenario.seed += 1;
+  WriteSequence(scenario, Options(temp / "c" / "seq", 2));
+  const auto c = ReadAllFiles(temp / "c" / "seq");
+  EXPECT_EQ(c.at("rgb.txt"), a.at("rgb.txt"));
+  int images_compared = 0;
+  for (const auto& [name, bytes] : a) {
+    if (!name.starts_with("rgb/") && !name.starts_with("depth/")) continue;
+    ASSERT_TRUE(c.contains(name)) << name;
+    EXPECT_NE(c.at(name), bytes) << name;
+    ++images_compared;
+  }
+  EXPECT_EQ(images_compared, 20);
+  EXPECT_NE(c.at("detections.jsonl"), a.at("detections.jsonl"));
+}
+
+TEST(SequenceWriter, BoxesEncloseTheVisiblePixelsOfTheirInstance) {
+  const Scenario scenario = fixtures::SmallScenario(fixtures::kWalkThenStop, 3, "xyz");
+  const CameraPath path = ScenarioCameraPath(scenario, {});
+  const std::vector<CleanFrame> frames = RenderClean(scenario, path.Trajectory());
+  for (const CleanFrame& frame : frames) {
+    const cv::Mat& ids = frame.rendered.instance;
+    const std::vector<core::Detection> boxes = GroundTruthBoxes(ids, frame.snapshot, 50);
+    ASSERT_GE(boxes.size(), 5U);
+    std::map<std::string, int> by_label;
+    for (const SceneInstance& instance : frame.snapshot.instances) {
+      if (instance.label.empty()) continue;
+      const cv::Mat pixels = ids == instance.id;
+      const int count = cv::countNonZero(pixels);
+      const auto box = std::find_if(boxes.begin(), boxes.end(), [&](const core::Detection& d) {
+        return d.label == instance.label && cv::countNonZero(pixels(cv::Rect(d.box))) == count;
+      });
+      if (count < 50) continue;
+      ASSERT_NE(box, boxes.end()) << instance.label << " " << instance.id << " has no enclosing box";
+      // Tight: every edge row and column of the box holds a pixel of the instance.
+      const cv::Rect r(box->box);
+      EXPECT_GT(cv::countNonZero(pixels.row(r.y).colRange(r.x, r.x + r.width)), 0);
+      EXPECT_GT(cv::countNonZero(pixels.row(r.y + r.height - 1).colRange(r.x, r.x + r.width)), 0);
+      EXPECT_GT(cv::countNonZero(pixels.col(r.x).rowRange(r.y, r.y + r.height)), 0);
+      EXPECT_GT(cv::countNonZero(pixels.col(r.x + r.width - 1).rowRange(r.y, r.y + r.height)), 0);
+      ++by_label[instance.label];
+    }
+    EXPECT_EQ(by_label["person"], 1);
+  }
+}
+
+TEST(SequenceWriter, MasksAreNonEmptyExactlyWhileSomethingVisibleMoves) {
+  testing::TempDir temp;
+  // The walker crosses the view for about a second and then stands still in it (10 Hz, 20 frames).
+  const Scenario scenario = fixtures::SmallScenario(fixtures::kWalkThenStop, 20);
+  WriteSequence(scenario, Options(temp / "seq"));
+  const io::RgbdSequence sequence = io::RgbdSequence::OpenTum(temp / "seq");
+  const std::vector<CleanFrame> frames = RenderClean(scenario, sequence.groundtruth());
+  const World world(scenario, TextureSet(scenario.textures));
+  int moving_frames = 0;
+  int still_frames = 0;
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const cv::Mat mask =
+        cv::imread((temp / "seq" / "mask" / sequence.entry(i).rgb_path.filename()).string(), cv::IMREAD_UNCHANGED);
+    bool visible_moving = false;
+    for (const SceneInstance& instance : frames[i].snapshot.instances) {
+      if (instance.moving && cv::countNonZero(frames[i].rendered.instance == instance.id) > 0) visible_moving = true;
+    }
+    const bool world_moving =
+        !world.MovingAt(sequence.entry(i).rgb_timestamp - sequence.entry(0).rgb_timestamp).empty();
+    EXPECT_EQ(cv::countNonZero(mask) > 0, visible_moving) << "frame " << i;
+    EXPECT_EQ(visible_moving, world_moving) << "frame " << i;  // the walker is in view throughout
+    // The mask is exactly the moving instance's pixels.
+    if (visible_moving) {
+      const int walker = *world.InstanceId("walker");
+      EXPECT_EQ(cv::countNonZero(mask != (frames[i].rendered.instance == walker)), 0);
+    }
+    (world_moving ? moving_frames : still_frames) += 1;
+  }
+  EXPECT_GE(moving_frames, 5);
+  EXPECT_GE(still_frames, 5);
+}
+
+TEST(SequenceWriter, MasksAreEmptyWithoutPeople) {
+  testing::TempDir temp;
+  WriteSequence(fixtures::SmallScenario("[]", 8, "xyz"), Options(temp / "seq"));
+  for (const auto& entry : fs::directory_iterator(temp / "seq" / "mask")) {
+    EXPECT_EQ(cv::countNonZero(cv::imread(entry.path().string(), cv::IMREAD_UNCHANGED)), 0) << entry.path();
+  }
+  EXPECT_EQ(ReadAllFiles(temp / "seq").at("events.jsonl"), "");
+}
+
+TEST(SequenceWriter, PosesReprojectStaticPointsAndDepthAgreesWithTheGeometry) {
+  testing::TempDir temp;
+  const Scenario scenario = fixtures::SmallScenario("[]", 3, "halfsphere");
+  WriteSequence(scenario, Options(temp / "seq"));
+  const io::RgbdSequence sequence = io::RgbdSequence::OpenTum(temp / "seq");
+  const std::vector<CleanFrame> frames = RenderClean(scenario, sequence.groundtruth());
+  const core::CameraIntrinsics camera;
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const core::Pose& T_wc = sequence.groundtruth()[i].T_wc;
+    const cv::Mat& clean = frames[i].rendered.depth;
+    const cv::Mat noisy = sequence.LoadFrame(i).depth;
+    int floor_pixels = 0;
+    int compared = 0;
+    int within = 0;
+    for (int v = 0; v < clean.rows; v += 4) {
+      for (int u = 0; u < clean.cols; u += 4) {
+        const float z = clean.at<float>(v, u);
+        if (z <= 0.0F) continue;
+        // The floor (instance 1) is the plane z = 0: the written pose puts the drawn point back on it.
+        if (frames[i].rendered.instance.at<int>(v, u) == 1) {
+          const Eigen::Vector3d p_w = T_wc * camera.Unproject(u, v, z);
+          EXPECT_NEAR(p_w.z(), 0.0, 1e-3);
+          ++floor_pixels;
+        }
+        const float measured = noisy.at<float>(v, u);
+        if (measured <= 0.0F) continue;
+        ++compared;
+        within += std::abs(measured - z) <= 4.0 * KinectDepthSigma(z) + 2.0 / 5000.0 ? 1 : 0;
+      }
+    }
+    EXPECT_GT(floor_pixels, 100);
+    // Static points projected with the written pose land on the pixels where the renderer drew them: the
+    // centres of the monitor screens and keyboards of the front desks.
+    const World world(scenario, TextureSet(scenario.textures));
+    for (const auto& [name, point] :
+         {std::pair{"tv_1", Eigen::Vector3d(0.034, 0.0, 0.375)}, std::pair{"tv_2", Eigen::Vector3d(0.034, 0.0, 0.375)},
+          std::pair{"keyboard_1", Eigen::Vector3d(0.0, 0.0, 0.024)},
+          std::pair{"keyboard_2", Eigen::Vector3d(0.0, 0.0, 0.024)}}) {
+      const Eigen::Vector3d p_c = T_wc.inverse() * (*world.ObjectPose(name, 0.0) * point);
+      const Eigen::Vector2d px = camera.Project(p_c);
+      const int u = static_cast<int>(std::lround(px.x()));
+      const int v = static_cast<int>(std::lround(px.y()));
+      ASSERT_TRUE(u >= 0 && v >= 0 && u < 640 && v < 480) << name;
+      EXPECT_EQ(frames[i].rendered.instance.at<int>(v, u), *world.InstanceId(name)) << name << " frame " << i;
+      EXPECT_NEAR(frames[i].rendered.depth.at<float>(v, u), p_c.z(), 0.01) << name << " frame " << i;
+    }
+    ASSERT_GT(compared, 5000);
+    EXPECT_GT(static_cast<double>(within) / compared, 0.99) << "frame " << i;
+  }
+}
+
+TEST(SequenceWriter, RefusesToOverwriteUnlessForced) {
+  testing::TempDir temp;
+  fs::create_directories(temp / "seq");
+  std::ofstream(temp / "seq" / "keep.txt") << "mine";
+  const Scenario scenario = fixtures::SmallScenario("[]", 2);
+  try {
+    WriteSequence(scenario, Options(temp / "seq"));
+    FAIL() << "no error";
+  } catch (const core::InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("--force"));
+  }
+  EXPECT_TRUE(fs::exists(temp / "seq" / "keep.txt"));
+  SynthOptions forced = Options(temp / "seq");
+  forced.force = true;
+  WriteSequence(scenario, forced);
+  EXPECT_FALSE(fs::exists(temp / "seq" / "keep.txt"));
+  EXPECT_TRUE(fs::exists(temp / "seq" / "rgb.txt"));
+}
+
+TEST(SequenceWriter, AFailedRunLeavesNothingBehind) {
+  testing::TempDir temp;
+  Scenario scenario = fixtures::SmallScenario("[]", 2);
+  scenario.camera.tum = "fr3_no_such_sequence";
+  SynthOptions options = Options(temp / "seq");
+  options.tum_dir = temp / "tum";
+  try {
+    WriteSequence(scenario, options);
+    FAIL() << "no error";
+  } catch (const core::InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("fr3_no_such_sequence.txt"));
+  }
+  EXPECT_TRUE(fs::is_empty(temp.path()));
+}
+
+TEST(SequenceWriter, ShippedTumScenarioFollowsTheRealCameraPath) {
+  HOIDSLAM_SHARED_PATH_OR_SKIP(groundtruth, "data/tum/groundtruth/fr3_walking_xyz.txt");
+  testing::TempDir temp;
+  Scenario scenario = LoadScenario("walking_xyz");
+  scenario.max_frames = 3;
+  SynthOptions options = Options(temp / "walking_xyz");
+  options.tum_dir = groundtruth.parent_path().parent_path();
+  WriteSequence(scenario, options);
+  const io::RgbdSequence sequence = io::RgbdSequence::OpenTum(temp / "walking_xyz");
+  ASSERT_EQ(sequence.size(), 3U);
+  // Real fr3 timing, and the first pose is the scenario's anchor.
+  EXPECT_NEAR(sequence.entry(0).rgb_timestamp, 1341846313.654184, 1e-6);
+  EXPECT_TRUE(sequence.groundtruth().front().T_wc.isApprox(scenario.camera.T_anchor, 1e-6));
+  io::DetectionsFile::Read(temp / "walking_xyz" / "detections.jsonl").CheckCovers(sequence.Timestamps(), "walking_xyz");
+}
+
+}  // namespace
+}  // namespace hoidslam::synth
