@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "hoidslam/core/pose.h"
+#include "hoidslam/io/timestamp_association.h"
 
 namespace hoidslam::eval {
 
@@ -18,17 +19,9 @@ struct AssociationOptions {
 };
 
 // A matched pair: indices into the first (ground truth) and second (estimate) stamp lists.
-struct Match {
-  std::size_t first = 0;
-  std::size_t second = 0;
+using Match = io::TimestampMatch;
 
-  friend bool operator==(const Match&, const Match&) = default;
-};
-
-// associate.py: every pair (a, b) with |a - (b + offset)| < max_difference is a candidate; candidates are taken
-// greedily from the smallest difference up (ties by a, then b), each stamp at most once. The result is sorted
-// by the first stamp. Throws InputError naming --max-difference if the tolerance is so wide that the candidate
-// pairs would not fit in memory (tens of millions; a tolerance near the frame spacing gives a few per stamp).
+// io::AssociateTimestamps (TUM's associate.py) after checking `options`; errors name the command-line flags.
 std::vector<Match> AssociateByTimestamp(std::span<const double> first, std::span<const double> second,
                                         const AssociationOptions& options);
 std::vector<Match> AssociateByTimestamp(const core::Trajectory& first, const core::Trajectory& second,

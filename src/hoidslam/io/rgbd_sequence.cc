@@ -4,9 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <map>
-#include <set>
 #include <string_view>
-#include <tuple>
 
 #include <fmt/format.h>
 #include <opencv2/core.hpp>
@@ -14,6 +12,7 @@
 
 #include "hoidslam/core/error.h"
 #include "hoidslam/io/text_lines.h"
+#include "hoidslam/io/timestamp_association.h"
 #include "hoidslam/io/trajectory_file.h"
 
 namespace hoidslam::io {
@@ -58,37 +57,23 @@ ImageList ReadImageList(const fs::path& root, const fs::path& list_file) {
   return images;
 }
 
-// TUM's associate.py: every pair closer than `max_difference` is a candidate; candidates are taken closest first,
-// each timestamp at most once; the result is in RGB time order.
+// RGB and depth images paired as TUM's associate.py pairs them, in RGB time order.
 std::vector<SequenceEntry> Associate(const ImageList& rgb, const ImageList& depth, double max_difference) {
-  struct Candidate {
-    double difference, t_rgb, t_depth;
-    bool operator<(const Candidate& other) const {
-      return std::tie(difference, t_rgb, t_depth) < std::tie(other.difference, other.t_rgb, other.t_depth);
-    }
+  const auto stamps = [](const ImageList& images) {
+    std::vector<double> times;
+    times.reserve(images.size());
+    for (const auto& [time, unused] : images) times.push_back(time);
+    return times;
   };
-  std::vector<Candidate> candidates;
-  for (const auto& [t_rgb, unused] : rgb) {
-    // The search window is twice the tolerance so that rounding at large timestamps cannot hide a pair; the exact
-    // test is the one associate.py makes.
-    for (auto it = depth.lower_bound(t_rgb - 2.0 * max_difference);
-         it != depth.end() && it->first <= t_rgb + 2.0 * max_difference; ++it) {
-      const double difference = std::abs(t_rgb - it->first);
-      if (difference < max_difference) candidates.push_back({difference, t_rgb, it->first});
-    }
-  }
-  std::sort(candidates.begin(), candidates.end());
-
-  std::set<double> used_rgb, used_depth;
+  const std::vector<double> rgb_times = stamps(rgb);
+  const std::vector<double> depth_times = stamps(depth);
   std::vector<SequenceEntry> entries;
-  for (const Candidate& c : candidates) {
-    if (used_rgb.contains(c.t_rgb) || used_depth.contains(c.t_depth)) continue;
-    used_rgb.insert(c.t_rgb);
-    used_depth.insert(c.t_depth);
-    entries.push_back({c.t_rgb, rgb.at(c.t_rgb), c.t_depth, depth.at(c.t_depth)});
+  for (const TimestampMatch& match :
+       AssociateTimestamps(rgb_times, depth_times, max_difference, 0.0, "max_time_difference")) {
+    const double t_rgb = rgb_times[match.first];
+    const double t_depth = depth_times[match.second];
+    entries.push_back({t_rgb, rgb.at(t_rgb), t_depth, depth.at(t_depth)});
   }
-  std::sort(entries.begin(), entries.end(),
-            [](const SequenceEntry& a, const SequenceEntry& b) { return a.rgb_timestamp < b.rgb_timestamp; });
   return entries;
 }
 
