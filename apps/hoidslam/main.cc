@@ -3,12 +3,17 @@
 
 #include <CLI/CLI.hpp>
 #include <opencv2/core/utility.hpp>
+#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include "commands.h"
 #include "hoidslam/core/error.h"
 
 int main(int argc, char** argv) {
+  // Logs and errors go to stderr, results to stdout. "error: <file>:<line>: <what>": one plain line a user can
+  // act on; no timestamps in an interactive tool.
+  spdlog::set_default_logger(spdlog::stderr_color_mt("hoidslam"));
+  spdlog::set_pattern("%^%l%$: %v");
   CLI::App app{"hoidslam: RGB-D SLAM in scenes where people walk and move things (HOID method)"};
   app.require_subcommand(1);
   bool verbose = false;

@@ -1,0 +1,193 @@
+// End-to-end tests of the hoidslam tool as a user runs it: exit status, the one error line on stderr naming the
+// file / line / parameter, and outputs that are complete or absent.
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "support/shared_data.h"
+#include "support/temp_dir.h"
+
+extern char** environ;
+
+namespace hoidslam::apps {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+using ::testing::StartsWith;
+
+struct RunResult {
+  int exit_status = -1;
+  std::string out;  // stdout
+  std::string err;  // stderr
+};
+
+std::string ReadAll(const fs::path& path) {
+  std::ifstream in(path);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// Runs the built hoidslam with `args`, stdout and stderr captured in files of `scratch`.
+RunResult RunHoidslam(const testing::TempDir& scratch, const std::vector<std::string>& args) {
+  const fs::path out = scratch / "stdout.txt";
+  const fs::path err = scratch / "stderr.txt";
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&actions, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  std::vector<std::string> argv_strings = {HOIDSLAM_BINARY};
+  argv_strings.insert(argv_strings.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& arg : argv_strings) argv.push_back(arg.data());
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  const int spawned = posix_spawn(&pid, HOIDSLAM_BINARY, &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  RunResult result;
+  if (spawned != 0) return result;
+  int status = 0;
+  waitpid(pid, &status, 0);
+  result.exit_status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  result.out = ReadAll(out);
+  result.err = ReadAll(err);
+  return result;
+}
+
+void WriteText(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
+
+// The one line a user sees for bad input: "error: ..." and nothing else on stderr.
+void ExpectOneErrorLine(const RunResult& result, const std::string& names) {
+  EXPECT_EQ(result.exit_status, 1) << result.err;
+  EXPECT_THAT(result.err, StartsWith("error: "));
+  EXPECT_THAT(result.err, HasSubstr(names));
+  EXPECT_EQ(std::count(result.err.begin(), result.err.end(), '\n'), 1) << result.err;
+}
+
+TEST(Cli, NoCommandIsAnErrorAndHelpIsNot) {
+  const testing::TempDir scratch;
+  EXPECT_NE(RunHoidslam(scratch, {}).exit_status, 0);
+  for (const char* command : {"detect", "eval", "synth"}) {
+    const RunResult help = RunHoidslam(scratch, {command, "--help"});
+    EXPECT_EQ(help.exit_status, 0) << command;
+    EXPECT_THAT(help.out, HasSubstr("Usage")) << command;
+  }
+  EXPECT_NE(RunHoidslam(scratch, {"eval", "--gt", "only.txt"}).exit_status, 0);  // --est is missing
+}
+
+TEST(Cli, EvalOfATrajectoryAgainstItselfWritesJson) {
+  const testing::TempDir scratch;
+  WriteText(scratch / "gt.txt",
+            "1.0 0 0 0 0 0 0 1\n1.5 0.1 0 0 0 0 0 1\n2.0 0.2 0.1 0 0 0 0 1\n2.5 0.3 0.1 0.1 0 0 0 1\n"
+            "3.0 0.3 0.2 0.1 0 0 0 1\n3.5 0.4 0.2 0.2 0 0 0 1\n");
+  const RunResult result = RunHoidslam(
+      scratch, {"eval", "--gt", (scratch / "gt.txt").string(), "--est", (scratch / "gt.txt").string(), "--json",
+                (scratch / "result.json").string()});
+  EXPECT_EQ(result.exit_status, 0) << result.err;
+  EXPECT_THAT(result.out, HasSubstr("ATE (m)"));
+  EXPECT_THAT(ReadAll(scratch / "result.json"), HasSubstr("\"rmse\""));
+}
+
+TEST(Cli, EvalNamesTheBadLineAndWritesNoJson) {
+  const testing::TempDir scratch;
+  WriteText(scratch / "gt.txt", "1.0 0 0 0 0 0 0 1\n2.0 0 0 0 0 0 0 1\n3.0 0 0 0 0 0 0 1\n");
+  WriteText(scratch / "est.txt", "# estimate\n1.0 0 0 0 0 0 0 1\n2.0 0 0 x 0 0 0 1\n");
+  const RunResult result = RunHoidslam(
+      scratch, {"eval", "--gt", (scratch / "gt.txt").string(), "--est", (scratch / "est.txt").string(), "--json",
+                (scratch / "result.json").string()});
+  ExpectOneErrorLine(result, (scratch / "est.txt").string() + ":3: 'x' is not a number");
+  EXPECT_FALSE(fs::exists(scratch / "result.json"));
+}
+
+TEST(Cli, EvalOfTrajectoriesThatDoNotOverlapSaysSo) {
+  const testing::TempDir scratch;
+  WriteText(scratch / "gt.txt", "1.0 0 0 0 0 0 0 1\n2.0 0 0 0 0 0 0 1\n3.0 0 0 0 0 0 0 1\n");
+  WriteText(scratch / "est.txt", "101.0 0 0 0 0 0 0 1\n102.0 0 0 0 0 0 0 1\n103.0 0 0 0 0 0 0 1\n");
+  const RunResult result =
+      RunHoidslam(scratch, {"eval", "--gt", (scratch / "gt.txt").string(), "--est", (scratch / "est.txt").string()});
+  ExpectOneErrorLine(result, "est.txt");
+}
+
+TEST(Cli, DetectNamesAMissingSequenceFolder) {
+  const testing::TempDir scratch;
+  const RunResult result = RunHoidslam(
+      scratch, {"detect", (scratch / "no_such_sequence").string(), "--model", (scratch / "m.onnx").string()});
+  ExpectOneErrorLine(result, "no_such_sequence");
+}
+
+TEST(Cli, DetectNamesACorruptModelAndWritesNothing) {
+  HOIDSLAM_SHARED_PATH_OR_SKIP(sequence, "data/tum/fr3_walking_xyz_pair");
+  const testing::TempDir scratch;
+  WriteText(scratch / "broken.onnx", "this is not a model");
+  const RunResult result = RunHoidslam(scratch, {"detect", sequence.string(), "--model",
+                                                 (scratch / "broken.onnx").string(), "--out",
+                                                 (scratch / "detections.jsonl").string()});
+  ExpectOneErrorLine(result, "broken.onnx");
+  EXPECT_FALSE(fs::exists(scratch / "detections.jsonl"));
+}
+
+TEST(Cli, DetectNamesAnOutOfRangeSetting) {
+  HOIDSLAM_SHARED_PATH_OR_SKIP(sequence, "data/tum/fr3_walking_xyz_pair");
+  HOIDSLAM_SHARED_PATH_OR_SKIP(model, "models/yolox_nano.onnx");
+  const testing::TempDir scratch;
+  WriteText(scratch / "settings.yaml",
+            "%YAML:1.0\nCamera.fx: 535.4\nCamera.fy: 539.2\nCamera.cx: 320.1\nCamera.cy: 247.6\n"
+            "HOID.minInteractionArea: 1.5\n");
+  const RunResult result =
+      RunHoidslam(scratch, {"detect", sequence.string(), "--model", model.string(), "--settings",
+                            (scratch / "settings.yaml").string(), "--out", (scratch / "detections.jsonl").string()});
+  ExpectOneErrorLine(result, "parameter HOID.minInteractionArea");
+  EXPECT_FALSE(fs::exists(scratch / "detections.jsonl"));
+}
+
+TEST(Cli, DetectWritesTheDetectionsFileAndAnnotatedFramesOfARealSequence) {
+  HOIDSLAM_SHARED_PATH_OR_SKIP(sequence, "data/tum/fr3_walking_xyz_pair");
+  HOIDSLAM_SHARED_PATH_OR_SKIP(model, "models/yolox_nano.onnx");
+  const testing::TempDir scratch;
+  const RunResult result =
+      RunHoidslam(scratch, {"detect", sequence.string(), "--model", model.string(), "--mode", "hoid3d", "--explain",
+                            "--out", (scratch / "detections.jsonl").string(), "--annotate",
+                            (scratch / "annotated").string()});
+  ASSERT_EQ(result.exit_status, 0) << result.err;
+  EXPECT_THAT(result.out, HasSubstr("person"));
+  EXPECT_THAT(result.out, HasSubstr("dynamic: person"));
+  EXPECT_THAT(ReadAll(scratch / "detections.jsonl"), HasSubstr("\"label\":\"person\""));
+  EXPECT_TRUE(fs::exists(scratch / "annotated" / "1341846313.592026.png"));
+  EXPECT_TRUE(fs::exists(scratch / "annotated" / "1341846316.570121.png"));
+}
+
+TEST(Cli, SynthNamesTheBadScenarioKeyAndLeavesNoFolder) {
+  const testing::TempDir scratch;
+  WriteText(scratch / "mine.json",
+            R"({"name": "mine", "camera": {"procedural": "xyz", "fps": 30, "duration": 1,
+                "position": [4.0, 1.5, 1.4], "look_at": [4.0, 4.5, 0.8]}, "peeple": []})");
+  const RunResult result = RunHoidslam(
+      scratch, {"synth", "--scenario", (scratch / "mine.json").string(), "--out", (scratch / "seq").string()});
+  ExpectOneErrorLine(result, "peeple");
+  EXPECT_FALSE(fs::exists(scratch / "seq"));
+}
+
+TEST(Cli, SynthSequenceIsReadByEval) {
+  const testing::TempDir scratch;
+  const fs::path sequence = scratch / "carry";
+  const RunResult synth =
+      RunHoidslam(scratch, {"synth", "--scenario", "carry", "--frames", "45", "--out", sequence.string()});
+  ASSERT_EQ(synth.exit_status, 0) << synth.err;
+  const RunResult eval =
+      RunHoidslam(scratch, {"eval", "--gt", (sequence / "groundtruth.txt").string(), "--est",
+                            (sequence / "groundtruth.txt").string()});
+  EXPECT_EQ(eval.exit_status, 0) << eval.err;
+  EXPECT_THAT(eval.out, HasSubstr("0.000000"));
+}
+
+}  // namespace
+}  // namespace hoidslam::apps
