@@ -165,6 +165,28 @@ TEST(Cli, DetectWritesTheDetectionsFileAndAnnotatedFramesOfARealSequence) {
   EXPECT_TRUE(fs::exists(scratch / "annotated" / "1341846316.570121.png"));
 }
 
+TEST(Cli, DetectReadsPlainImageFolders) {
+  HOIDSLAM_SHARED_PATH_OR_SKIP(sequence, "data/tum/fr3_walking_xyz_pair");
+  HOIDSLAM_SHARED_PATH_OR_SKIP(model, "models/yolox_nano.onnx");
+  const testing::TempDir scratch;
+  const RunResult result = RunHoidslam(
+      scratch, {"detect", "--rgb-folder", (sequence / "rgb").string(), "--depth-folder", (sequence / "depth").string(),
+                "--fps", "10", "--model", model.string(), "--out", (scratch / "detections.jsonl").string()});
+  ASSERT_EQ(result.exit_status, 0) << result.err;
+  // Timestamps come from the frame rate: frame i at i / fps.
+  const std::string detections = ReadAll(scratch / "detections.jsonl");
+  EXPECT_THAT(detections, HasSubstr("{\"timestamp\":0.000000,"));
+  EXPECT_THAT(detections, HasSubstr("{\"timestamp\":0.100000,"));
+
+  const RunResult half = RunHoidslam(
+      scratch, {"detect", "--rgb-folder", (sequence / "rgb").string(), "--model", model.string()});
+  ExpectOneErrorLine(half, "parameter --depth-folder");
+  const RunResult both = RunHoidslam(
+      scratch, {"detect", sequence.string(), "--rgb-folder", (sequence / "rgb").string(), "--depth-folder",
+                (sequence / "depth").string(), "--model", model.string()});
+  ExpectOneErrorLine(both, "either a dataset folder or --rgb-folder and --depth-folder");
+}
+
 TEST(Cli, SynthNamesTheBadScenarioKeyAndLeavesNoFolder) {
   const testing::TempDir scratch;
   WriteText(scratch / "mine.json",

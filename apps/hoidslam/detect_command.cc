@@ -13,6 +13,7 @@
 #include <spdlog/spdlog.h>
 
 #include "commands.h"
+#include "sequence_options.h"
 #include "hoidslam/core/error.h"
 #include "hoidslam/core/interrupt.h"
 #include "hoidslam/core/progress.h"
@@ -32,7 +33,7 @@ namespace {
 namespace fs = std::filesystem;
 
 struct DetectArgs {
-  std::string dataset;
+  SequenceArgs sequence;
   std::string model;
   std::string out;  // empty: <dataset>/detections.jsonl
   float conf = detect::OnnxDetectorOptions{}.confidence_threshold;
@@ -40,8 +41,6 @@ struct DetectArgs {
   int input_size = 0;
   std::string layout = "auto";
   std::string names;
-  std::string associations;
-  double depth_factor = io::SequenceOptions{}.depth_factor;
   std::string settings;  // ORB-SLAM3-style settings file: HOID.* and DepthMapFactor
   std::string mode;      // overrides HOID.mode
   std::string annotate;  // folder for annotated frames
@@ -164,11 +163,8 @@ void RunDetect(const DetectArgs& args) {
   if (!args.mode.empty()) hoid_options.mode = core::ParseFilterMode(args.mode, "HOID.mode (--mode)");
   HoidExplainer explainer(hoid_options, args.annotate, args.explain);
 
-  io::SequenceOptions sequence_options;
-  sequence_options.depth_factor = args.settings.empty() ? args.depth_factor : settings.depth_map_factor;
-  sequence_options.associations = args.associations;
-  const io::RgbdSequence sequence = io::RgbdSequence::OpenTum(args.dataset, sequence_options);
-  if (sequence.size() == 0) throw core::InputError::InFile(args.dataset, "the sequence has no frames");
+  const io::RgbdSequence sequence = OpenSequence(
+      args.sequence, args.settings.empty() ? args.sequence.depth_factor : settings.depth_map_factor);
 
   detect::OnnxDetectorOptions options;
   options.model = args.model;
@@ -182,7 +178,7 @@ void RunDetect(const DetectArgs& args) {
                detector.input_size().height, detect::ToString(detector.output_format().layout),
                detector.output_format().num_classes, sequence.size(), sequence.name());
 
-  const fs::path out = args.out.empty() ? fs::path(args.dataset) / "detections.jsonl" : fs::path(args.out);
+  const fs::path out = args.out.empty() ? SequenceFolder(args.sequence) / "detections.jsonl" : fs::path(args.out);
   RunSummary summary;
   core::InterruptGuard interrupts;
   if (!DetectAll(sequence, detector, out, interrupts, explainer, summary)) {
@@ -201,7 +197,7 @@ void AddDetectCommand(CLI::App& app) {
       "detect",
       "Run an ONNX detector (YOLOX, YOLOv5, YOLOv8, YOLO11) on every RGB frame of a TUM-layout sequence "
       "and write its detections file (JSON Lines, docs/detections-file.md)");
-  command->add_option("dataset", args->dataset, "Sequence folder (rgb.txt, depth.txt, rgb/, depth/)")->required();
+  AddSequenceOptions(*command, args->sequence);
   command->add_option("--model", args->model, "Detector model (.onnx)")->required();
   command->add_option("--out", args->out, "Detections file to write (default: <dataset>/detections.jsonl)");
   command->add_option("--conf", args->conf, "Minimum detection score, in (0, 1)")->capture_default_str();
@@ -213,10 +209,6 @@ void AddDetectCommand(CLI::App& app) {
   command->add_option("--layout", args->layout, "Output layout: auto, yolox, yolov5, yolov8 or yolo11")
       ->capture_default_str();
   command->add_option("--names", args->names, "Class names file, one per line in model order (default: COCO-80)");
-  command->add_option("--associations", args->associations,
-                      "RGB-D associations file (t_rgb rgb/... t_depth depth/...), relative to the dataset folder");
-  command->add_option("--depth-factor", args->depth_factor, "Depth PNG units per metre (ignored with --settings)")
-      ->capture_default_str();
   command->add_option("--settings", args->settings,
                       "Settings file (e.g. config/TUM3.yaml): its HOID.* section and DepthMapFactor are used");
   command->add_option("--mode", args->mode, "HOID filter mode for --explain/--annotate: none, person, classes, "

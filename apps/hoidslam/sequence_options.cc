@@ -1,0 +1,44 @@
+#include "sequence_options.h"
+
+#include "hoidslam/core/error.h"
+
+namespace hoidslam::apps {
+
+void AddSequenceOptions(CLI::App& command, SequenceArgs& args) {
+  command.add_option("dataset", args.dataset,
+                     "Sequence folder in TUM / Bonn layout (rgb.txt, depth.txt, rgb/, depth/)");
+  command.add_option("--rgb-folder", args.rgb_folder,
+                     "Instead of a dataset folder: a folder of colour images, paired in name order with --depth-folder");
+  command.add_option("--depth-folder", args.depth_folder, "Folder of 16-bit depth PNGs, for --rgb-folder");
+  command.add_option("--fps", args.fps, "Frame rate of --rgb-folder / --depth-folder images")->capture_default_str();
+  command.add_option("--associations", args.associations,
+                     "RGB-D associations file (t_rgb rgb/... t_depth depth/...), relative to the dataset folder");
+  command.add_option("--depth-factor", args.depth_factor, "Depth PNG units per metre (ignored with --settings)")
+      ->capture_default_str();
+}
+
+io::RgbdSequence OpenSequence(const SequenceArgs& args, double depth_factor) {
+  const bool folders = !args.rgb_folder.empty() || !args.depth_folder.empty();
+  if (args.dataset.empty() == !folders) {
+    throw core::InputError::ForParameter("dataset", "give either a dataset folder or --rgb-folder and --depth-folder");
+  }
+  if (folders && (args.rgb_folder.empty() || args.depth_folder.empty())) {
+    throw core::InputError::ForParameter(args.rgb_folder.empty() ? "--rgb-folder" : "--depth-folder",
+                                         "is needed too: image folders come in pairs");
+  }
+  io::SequenceOptions options;
+  options.depth_factor = depth_factor;
+  options.associations = args.associations;
+  io::RgbdSequence sequence = folders
+                                  ? io::RgbdSequence::OpenImageFolders(args.rgb_folder, args.depth_folder, args.fps, options)
+                                  : io::RgbdSequence::OpenTum(args.dataset, options);
+  if (sequence.size() == 0) throw core::InputError::InFile(SequenceFolder(args), "the sequence has no frames");
+  return sequence;
+}
+
+std::filesystem::path SequenceFolder(const SequenceArgs& args) {
+  if (!args.dataset.empty()) return args.dataset;
+  return std::filesystem::absolute(args.rgb_folder).lexically_normal().parent_path();
+}
+
+}  // namespace hoidslam::apps

@@ -1,0 +1,33 @@
+#pragma once
+// The input sequence of a command: a TUM / Bonn folder, or two plain image folders played at a fixed rate.
+// Shared by every command that reads a sequence, so they all accept the same options.
+
+#include <filesystem>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "hoidslam/io/rgbd_sequence.h"
+
+namespace hoidslam::apps {
+
+struct SequenceArgs {
+  std::string dataset;       // TUM-layout folder (positional)
+  std::string rgb_folder;    // or: --rgb-folder and --depth-folder, sorted by name and paired in order
+  std::string depth_folder;
+  double fps = 30.0;         // frame rate of image folders
+  std::string associations;  // optional associations file, relative to the dataset folder
+  double depth_factor = io::SequenceOptions{}.depth_factor;
+};
+
+// Adds the positional dataset and --rgb-folder, --depth-folder, --fps, --associations, --depth-factor.
+void AddSequenceOptions(CLI::App& command, SequenceArgs& args);
+
+// Opens what the options name, with `depth_factor` (a settings file's, or --depth-factor). Throws InputError
+// unless exactly one of the dataset folder and the pair of image folders is given, or the sequence is empty.
+io::RgbdSequence OpenSequence(const SequenceArgs& args, double depth_factor);
+
+// Where a command writes a per-sequence file by default: inside the dataset folder, or beside the image folders.
+std::filesystem::path SequenceFolder(const SequenceArgs& args);
+
+}  // namespace hoidslam::apps
