@@ -1,7 +1,5 @@
 #include "hoidslam/io/rgbd_sequence.h"
 
-#include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <map>
 #include <string_view>
@@ -11,6 +9,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "hoidslam/core/error.h"
+#include "hoidslam/io/files.h"
 #include "hoidslam/io/text_lines.h"
 #include "hoidslam/io/timestamp_association.h"
 #include "hoidslam/io/trajectory_file.h"
@@ -77,49 +76,14 @@ std::vector<SequenceEntry> Associate(const ImageList& rgb, const ImageList& dept
   return entries;
 }
 
-// An associations file: `t_rgb rgb/x.png t_depth depth/y.png` lines; a repeated RGB timestamp keeps its last line.
+// An associations file, with every listed image checked.
 std::vector<SequenceEntry> ReadAssociations(const fs::path& root, const fs::path& file) {
-  std::map<double, SequenceEntry> by_rgb_time;
-  ForEachDataLine(file, [&](std::size_t line, const std::vector<std::string_view>& fields) {
-    if (fields.size() != 4) {
-      throw InputError::AtLine(
-          file, line, fmt::format("expected 't_rgb rgb_path t_depth depth_path', found {} field(s)", fields.size()));
-    }
-    SequenceEntry entry{ParseDouble(fields[0], file, line), ListedImage(root, fields[1], file, line),
-                        ParseDouble(fields[2], file, line), ListedImage(root, fields[3], file, line)};
-    by_rgb_time[entry.rgb_timestamp] = std::move(entry);
-  });
-  if (by_rgb_time.empty()) throw InputError::InFile(file, "lists no RGB-D pairs");
   std::vector<SequenceEntry> entries;
-  entries.reserve(by_rgb_time.size());
-  for (auto& [unused, entry] : by_rgb_time) entries.push_back(std::move(entry));
-  return entries;
-}
-
-// `folder` made absolute and normal, without a trailing separator, so that its filename() is the folder's name
-// also for "seq/", "." or "..". Symbolic links are kept: the name is the one the user gave.
-fs::path NormalFolder(const fs::path& folder) {
-  fs::path normal = fs::absolute(folder).lexically_normal();
-  return normal.has_filename() ? normal : normal.parent_path();
-}
-
-bool IsImageFile(const fs::path& path) {
-  std::string extension = path.extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return extension == ".png" || extension == ".jpg" || extension == ".jpeg";
-}
-
-// The image files of `folder`, sorted by file name.
-std::vector<fs::path> ImagesIn(const fs::path& folder) {
-  if (!fs::is_directory(folder)) throw InputError::InFile(folder, "image folder does not exist");
-  std::vector<fs::path> images;
-  for (const fs::directory_entry& item : fs::directory_iterator(folder)) {
-    if (item.is_regular_file() && IsImageFile(item.path())) images.push_back(item.path());
+  for (const AssociationLine& line : ReadAssociationList(file)) {
+    entries.push_back({line.rgb_timestamp, ListedImage(root, line.rgb, file, line.line), line.depth_timestamp,
+                       ListedImage(root, line.depth, file, line.line)});
   }
-  std::sort(images.begin(), images.end(),
-            [](const fs::path& a, const fs::path& b) { return a.filename() < b.filename(); });
-  return images;
+  return entries;
 }
 
 // "3-channel 8-bit unsigned" and the like, for messages about what an image file held.
@@ -129,24 +93,25 @@ std::string DescribeType(const cv::Mat& image) {
   return fmt::format("{}-channel {}", image.channels(), kDepthNames[image.depth()]);
 }
 
-// cv::imread with the failures turned into errors that name the file.
-cv::Mat ReadImage(const fs::path& path, int flags, std::string_view what) {
-  if (!fs::is_regular_file(path)) throw InputError::InFile(path, fmt::format("{} image does not exist", what));
-  cv::Mat image;
-  try {
-    image = cv::imread(path.string(), flags);
-  } catch (const cv::Exception& e) {
-    throw InputError::InFile(path, fmt::format("cannot decode the {} image: {}", what, e.err));
-  }
-  if (image.empty()) {
-    throw InputError::InFile(path, fmt::format("cannot decode the {} image: expected a PNG or JPEG file, found a "
-                                               "corrupt, truncated or unsupported one",
-                                               what));
-  }
-  return image;
-}
-
 }  // namespace
+
+std::vector<AssociationLine> ReadAssociationList(const std::filesystem::path& file) {
+  std::map<double, AssociationLine> by_rgb_time;
+  ForEachDataLine(file, [&](std::size_t line, const std::vector<std::string_view>& fields) {
+    if (fields.size() != 4) {
+      throw InputError::AtLine(
+          file, line, fmt::format("expected 't_rgb rgb_path t_depth depth_path', found {} field(s)", fields.size()));
+    }
+    const double t_rgb = ParseDouble(fields[0], file, line);
+    by_rgb_time[t_rgb] = {t_rgb, std::string(fields[1]), ParseDouble(fields[2], file, line), std::string(fields[3]),
+                          line};
+  });
+  if (by_rgb_time.empty()) throw InputError::InFile(file, "lists no RGB-D pairs");
+  std::vector<AssociationLine> lines;
+  lines.reserve(by_rgb_time.size());
+  for (auto& [unused, line] : by_rgb_time) lines.push_back(std::move(line));
+  return lines;
+}
 
 RgbdSequence RgbdSequence::OpenTum(const std::filesystem::path& root, const SequenceOptions& options) {
   CheckOptions(options);

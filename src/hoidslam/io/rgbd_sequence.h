@@ -27,6 +27,20 @@ struct SequenceEntry {
   std::filesystem::path depth_path;
 };
 
+// One line of an associations file (`t_rgb rgb/x.png t_depth depth/y.png`), paths as written.
+struct AssociationLine {
+  double rgb_timestamp = 0.0;
+  std::string rgb;
+  double depth_timestamp = 0.0;
+  std::string depth;
+  std::size_t line = 0;  // in the file, from 1
+};
+
+// Reads an associations file: exactly 4 fields a line, '#' comments and blank lines skipped, a repeated RGB
+// timestamp keeps its last line, sorted by RGB time. Throws InputError naming the file and line; an empty list
+// is an error too.
+std::vector<AssociationLine> ReadAssociationList(const std::filesystem::path& file);
+
 class RgbdSequence {
  public:
   // Opens a TUM / Bonn sequence folder. Throws InputError naming the file and line on a missing folder or
