@@ -15,7 +15,7 @@ mkdir -p "$out"
 "$build/hoidslam" detect "$shared/data/tum/fr3_walking_xyz_pair" \
   --model "$shared/models/yolox_nano.onnx" \
   --settings "$repo/config/TUM3.yaml" --mode hoid3d \
-  --out "$out/detections.jsonl" --explain --annotate "$out/annotated"
+  --out "$out/detections.jsonl" --explain --annotate "$out/annotated" --force
 
 HOIDSLAM_SHARED_DIR="$shared" "$build/hoidslam" synth --scenario walking_xyz --frames 150 --force \
   --out "$out/synth_walking_xyz" --preview "$out/synth_walking_xyz.png"

@@ -128,11 +128,15 @@ TEST(Cli, DetectNamesACorruptModelAndWritesNothing) {
   HOIDSLAM_SHARED_PATH_OR_SKIP(sequence, "data/tum/fr3_walking_xyz_pair");
   const testing::TempDir scratch;
   WriteText(scratch / "broken.onnx", "this is not a model");
-  const RunResult result = RunHoidslam(scratch, {"detect", sequence.string(), "--model",
-                                                 (scratch / "broken.onnx").string(), "--out",
-                                                 (scratch / "detections.jsonl").string()});
+  const RunResult result = RunHoidslam(
+      scratch, {"detect", sequence.string(), "--model", (scratch / "broken.onnx").string(), "--out",
+                (scratch / "detections.jsonl").string(), "--annotate", (scratch / "annotated").string()});
   ExpectOneErrorLine(result, "broken.onnx");
   EXPECT_FALSE(fs::exists(scratch / "detections.jsonl"));
+  // Nothing else either: no annotation folder, no temporary folder.
+  std::vector<std::string> left;
+  for (const auto& entry : fs::directory_iterator(scratch.path())) left.push_back(entry.path().filename().string());
+  EXPECT_THAT(left, ::testing::UnorderedElementsAre("broken.onnx", "stdout.txt", "stderr.txt"));
 }
 
 TEST(Cli, DetectNamesAnOutOfRangeSetting) {
@@ -163,6 +167,16 @@ TEST(Cli, DetectWritesTheDetectionsFileAndAnnotatedFramesOfARealSequence) {
   EXPECT_THAT(ReadAll(scratch / "detections.jsonl"), HasSubstr("\"label\":\"person\""));
   EXPECT_TRUE(fs::exists(scratch / "annotated" / "1341846313.592026.png"));
   EXPECT_TRUE(fs::exists(scratch / "annotated" / "1341846316.570121.png"));
+
+  // A second run does not silently replace the folder; with --force it does.
+  const std::vector<std::string> again = {"detect", sequence.string(), "--model", model.string(), "--out",
+                                          (scratch / "detections.jsonl").string(), "--annotate",
+                                          (scratch / "annotated").string()};
+  ExpectOneErrorLine(RunHoidslam(scratch, again), "use --force to replace it");
+  std::vector<std::string> forced = again;
+  forced.push_back("--force");
+  EXPECT_EQ(RunHoidslam(scratch, forced).exit_status, 0);
+  EXPECT_TRUE(fs::exists(scratch / "annotated" / "1341846316.570121.png"));
 }
 
 TEST(Cli, DetectReadsPlainImageFolders) {
@@ -185,6 +199,36 @@ TEST(Cli, DetectReadsPlainImageFolders) {
       scratch, {"detect", sequence.string(), "--rgb-folder", (sequence / "rgb").string(), "--depth-folder",
                 (sequence / "depth").string(), "--model", model.string()});
   ExpectOneErrorLine(both, "either a dataset folder or --rgb-folder and --depth-folder");
+}
+
+TEST(Cli, DetectWritesBesideImageFoldersGivenWithATrailingSlash) {
+  HOIDSLAM_SHARED_PATH_OR_SKIP(sequence, "data/tum/fr3_walking_xyz_pair");
+  HOIDSLAM_SHARED_PATH_OR_SKIP(model, "models/yolox_nano.onnx");
+  const testing::TempDir scratch;
+  fs::create_directories(scratch / "seq");
+  fs::copy(sequence / "rgb", scratch / "seq" / "rgb");
+  fs::copy(sequence / "depth", scratch / "seq" / "depth");
+  const RunResult result =
+      RunHoidslam(scratch, {"detect", "--rgb-folder", (scratch / "seq" / "rgb").string() + "/", "--depth-folder",
+                            (scratch / "seq" / "depth").string() + "/", "--model", model.string()});
+  ASSERT_EQ(result.exit_status, 0) << result.err;
+  EXPECT_TRUE(fs::exists(scratch / "seq" / "detections.jsonl"));
+}
+
+TEST(Cli, DetectRejectsOptionsThatContradictEachOther) {
+  HOIDSLAM_SHARED_PATH_OR_SKIP(sequence, "data/tum/fr3_walking_xyz_pair");
+  HOIDSLAM_SHARED_PATH_OR_SKIP(model, "models/yolox_nano.onnx");
+  const testing::TempDir scratch;
+  const RunResult associations = RunHoidslam(
+      scratch, {"detect", "--rgb-folder", (sequence / "rgb").string(), "--depth-folder", (sequence / "depth").string(),
+                "--associations", "associations.txt", "--model", model.string()});
+  ExpectOneErrorLine(associations, "parameter --associations");
+  WriteText(scratch / "settings.yaml",
+            "%YAML:1.0\nCamera.fx: 535.4\nCamera.fy: 539.2\nCamera.cx: 320.1\nCamera.cy: 247.6\n");
+  const RunResult factors =
+      RunHoidslam(scratch, {"detect", sequence.string(), "--settings", (scratch / "settings.yaml").string(),
+                            "--depth-factor", "1000", "--model", model.string()});
+  ExpectOneErrorLine(factors, "parameter --depth-factor");
 }
 
 TEST(Cli, SynthNamesTheBadScenarioKeyAndLeavesNoFolder) {

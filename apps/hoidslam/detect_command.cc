@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,10 +20,12 @@
 #include "hoidslam/core/progress.h"
 #include "hoidslam/core/stopwatch.h"
 #include "hoidslam/detect/onnx_detector.h"
+#include "hoidslam/eval/statistics.h"
 #include "hoidslam/hoid/explain.h"
 #include "hoidslam/hoid/filter.h"
 #include "hoidslam/io/atomic_file.h"
 #include "hoidslam/io/detections_file.h"
+#include "hoidslam/io/files.h"
 #include "hoidslam/io/rgbd_sequence.h"
 #include "hoidslam/io/settings.h"
 #include "hoidslam/report/annotate.h"
@@ -45,62 +48,53 @@ struct DetectArgs {
   std::string mode;      // overrides HOID.mode
   std::string annotate;  // folder for annotated frames
   bool explain = false;
+  bool force = false;  // replace an existing --annotate folder
 };
-
-cv::Mat ReadColourImage(const fs::path& path) {
-  cv::Mat image;
-  try {
-    image = cv::imread(path.string(), cv::IMREAD_COLOR);
-  } catch (const cv::Exception& e) {
-    throw core::InputError::InFile(path, fmt::format("cannot decode the image: {}", e.err));
-  }
-  if (image.empty()) throw core::InputError::InFile(path, "cannot read the image");
-  return image;
-}
 
 // Shows the HOID filter's verdict on each frame's detections: one line per detection on stdout (--explain)
 // and/or the frame with red (dropped) and green (kept) boxes in a folder (--annotate).
 class HoidExplainer {
  public:
-  HoidExplainer(const core::HoidOptions& options, fs::path annotate_folder, bool print)
-      : options_(options), annotate_folder_(std::move(annotate_folder)), print_(print) {
+  // The annotation folder appears complete or not at all; an existing one is replaced only with `replace`.
+  HoidExplainer(const core::HoidOptions& options, const std::string& annotate_folder, bool replace, bool print)
+      : options_(options), print_(print) {
     options_.Check();
-    if (!annotate_folder_.empty()) {
-      std::error_code error;
-      fs::create_directories(annotate_folder_, error);
-      if (error) throw core::InputError::InFile(annotate_folder_, "cannot create the folder: " + error.message());
+    if (!annotate_folder.empty()) {
+      annotate_folder_.emplace(annotate_folder, replace, "--annotate", "use --force to replace it");
     }
   }
 
-  bool active() const { return print_ || !annotate_folder_.empty(); }
+  bool active() const { return print_ || annotate_folder_.has_value(); }
+  // Only hoid3d reads depth; the other modes need no depth image at all.
+  bool needs_depth() const { return active() && options_.mode == core::FilterMode::kHoid3d; }
 
-  void Explain(const io::RgbdSequence& sequence, std::size_t index, const cv::Mat& image,
-               const std::vector<core::Detection>& detections) {
-    // Only hoid3d reads depth; the other modes need no depth image at all.
-    const cv::Mat depth =
-        options_.mode == core::FilterMode::kHoid3d ? sequence.LoadFrame(index).depth : cv::Mat();
-    hoid::ClassifyDetections(detections, options_, depth, decisions_);
-    const io::SequenceEntry& entry = sequence.entry(index);
+  void Explain(std::size_t index, const core::RgbdFrame& frame, const std::vector<core::Detection>& detections) {
+    hoid::ClassifyDetections(detections, options_, frame.depth, decisions_);
     if (print_) {
-      fmt::print("frame {} ({:.6f}), mode {}:\n", index, entry.rgb_timestamp, core::ToString(options_.mode));
+      fmt::print("frame {} ({:.6f}), mode {}:\n", index, frame.timestamp, core::ToString(options_.mode));
       for (std::size_t i = 0; i < detections.size(); ++i) {
         fmt::print("  #{:<2} {}\n", i, hoid::DescribeDecision(detections, decisions_, i));
       }
     }
-    if (annotate_folder_.empty()) return;
+    if (!annotate_folder_) return;
     std::vector<report::BoxAnnotation> annotations;
     annotations.reserve(detections.size());
     for (std::size_t i = 0; i < detections.size(); ++i) {
       annotations.push_back(
           {detections[i].box, hoid::CaptionDecision(detections[i], decisions_[i]), decisions_[i].dynamic});
     }
-    io::WriteImageAtomically(annotate_folder_ / fmt::format("{:.6f}.png", entry.rgb_timestamp),
-                             report::DrawBoxAnnotations(image, annotations));
+    io::WriteImageAtomically(annotate_folder_->temporary() / fmt::format("{:.6f}.png", frame.timestamp),
+                             report::DrawBoxAnnotations(frame.rgb, annotations));
+  }
+
+  // Publishes the annotated frames.
+  void Commit() {
+    if (annotate_folder_) annotate_folder_->Commit();
   }
 
  private:
   core::HoidOptions options_;
-  fs::path annotate_folder_;
+  std::optional<io::AtomicFolder> annotate_folder_;
   bool print_;
   std::vector<hoid::Decision> decisions_;
 };
@@ -116,37 +110,38 @@ struct RunSummary {
 // then not written).
 bool DetectAll(const io::RgbdSequence& sequence, detect::Detector& detector, const fs::path& out,
                const core::InterruptGuard& interrupts, HoidExplainer& explainer, RunSummary& summary) {
-  const cv::Mat first = ReadColourImage(sequence.entry(0).rgb_path);
-  io::DetectionsFileWriter writer(out, {sequence.name(), detector.Name(), first.cols, first.rows});
+  // The detector needs only colour; depth is decoded only when the HOID explanation needs it.
+  const auto load = [&](std::size_t i) {
+    if (explainer.needs_depth()) return sequence.LoadFrame(i);
+    core::RgbdFrame frame;
+    frame.timestamp = sequence.entry(i).rgb_timestamp;
+    frame.rgb = io::ReadImage(sequence.entry(i).rgb_path, cv::IMREAD_COLOR, "colour");
+    return frame;
+  };
+  const core::RgbdFrame first = load(0);
+  io::DetectionsFileWriter writer(out, {sequence.name(), detector.Name(), first.rgb.cols, first.rgb.rows});
   core::ProgressReporter progress("detect", sequence.size());
   for (std::size_t i = 0; i < sequence.size(); ++i) {
     if (interrupts.requested()) return false;
-    const io::SequenceEntry& entry = sequence.entry(i);
-    const cv::Mat image = i == 0 ? first : ReadColourImage(entry.rgb_path);
-    if (image.size() != first.size()) {
-      throw core::InputError::InFile(entry.rgb_path, fmt::format("is {}×{}, unlike the first frame ({}×{})", image.cols,
-                                                                 image.rows, first.cols, first.rows));
+    const core::RgbdFrame frame = i == 0 ? first : load(i);
+    if (frame.rgb.size() != first.rgb.size()) {
+      throw core::InputError::InFile(sequence.entry(i).rgb_path,
+                                     fmt::format("is {}×{}, unlike the first frame ({}×{})", frame.rgb.cols,
+                                                 frame.rgb.rows, first.rgb.cols, first.rgb.rows));
     }
     const core::Stopwatch stopwatch;
-    io::FrameDetections frame{entry.rgb_timestamp, detector.Detect(entry.rgb_timestamp, image)};
+    const io::FrameDetections detections{frame.timestamp, detector.Detect(frame.timestamp, frame.rgb)};
     summary.milliseconds.push_back(stopwatch.ElapsedMilliseconds());
-    for (const core::Detection& d : frame.detections) ++summary.per_class[d.label];
-    summary.detections += frame.detections.size();
+    for (const core::Detection& d : detections.detections) ++summary.per_class[d.label];
+    summary.detections += detections.detections.size();
     ++summary.frames;
-    writer.Write(frame);
-    if (explainer.active()) explainer.Explain(sequence, i, image, frame.detections);
+    writer.Write(detections);
+    if (explainer.active()) explainer.Explain(i, frame, detections.detections);
     progress.Update(i + 1);
   }
   writer.Commit();
+  explainer.Commit();
   return true;
-}
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  if (values.size() % 2 == 1) return *middle;
-  return (*middle + *std::max_element(values.begin(), middle)) / 2.0;
 }
 
 void PrintSummary(const fs::path& out, const RunSummary& summary) {
@@ -154,17 +149,17 @@ void PrintSummary(const fs::path& out, const RunSummary& summary) {
   std::vector<std::pair<std::string, std::size_t>> classes(summary.per_class.begin(), summary.per_class.end());
   std::stable_sort(classes.begin(), classes.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
   for (const auto& [label, count] : classes) fmt::print("  {:<16} {:>8}\n", label, count);
-  fmt::print("median {:.1f} ms per frame (detector only)\n", Median(summary.milliseconds));
+  fmt::print("median {:.1f} ms per frame (detector only)\n", eval::ComputeStatistics(summary.milliseconds).median);
 }
 
 void RunDetect(const DetectArgs& args) {
   const io::Settings settings = args.settings.empty() ? io::Settings{} : io::LoadSettings(args.settings);
   core::HoidOptions hoid_options = settings.hoid;
   if (!args.mode.empty()) hoid_options.mode = core::ParseFilterMode(args.mode, "HOID.mode (--mode)");
-  HoidExplainer explainer(hoid_options, args.annotate, args.explain);
+  HoidExplainer explainer(hoid_options, args.annotate, args.force, args.explain);
 
-  const io::RgbdSequence sequence = OpenSequence(
-      args.sequence, args.settings.empty() ? args.sequence.depth_factor : settings.depth_map_factor);
+  const io::RgbdSequence sequence =
+      OpenSequence(args.sequence, args.settings.empty() ? std::nullopt : std::optional(settings.depth_map_factor));
 
   detect::OnnxDetectorOptions options;
   options.model = args.model;
@@ -216,6 +211,7 @@ void AddDetectCommand(CLI::App& app) {
   command->add_flag("--explain", args->explain, "Print the HOID filter's verdict on every detection of every frame");
   command->add_option("--annotate", args->annotate,
                       "Write every frame with its boxes to this folder: red = features dropped, green = kept");
+  command->add_flag("--force", args->force, "Replace the --annotate folder when it exists and is not empty");
   command->callback([args] { RunDetect(*args); });
 }
 

@@ -1,6 +1,7 @@
 #include "sequence_options.h"
 
 #include "hoidslam/core/error.h"
+#include "hoidslam/io/files.h"
 
 namespace hoidslam::apps {
 
@@ -13,11 +14,11 @@ void AddSequenceOptions(CLI::App& command, SequenceArgs& args) {
   command.add_option("--fps", args.fps, "Frame rate of --rgb-folder / --depth-folder images")->capture_default_str();
   command.add_option("--associations", args.associations,
                      "RGB-D associations file (t_rgb rgb/... t_depth depth/...), relative to the dataset folder");
-  command.add_option("--depth-factor", args.depth_factor, "Depth PNG units per metre (ignored with --settings)")
-      ->capture_default_str();
+  command.add_option("--depth-factor", args.depth_factor,
+                     "Depth PNG units per metre (default: DepthMapFactor of --settings, else 5000)");
 }
 
-io::RgbdSequence OpenSequence(const SequenceArgs& args, double depth_factor) {
+io::RgbdSequence OpenSequence(const SequenceArgs& args, std::optional<double> settings_depth_factor) {
   const bool folders = !args.rgb_folder.empty() || !args.depth_folder.empty();
   if (args.dataset.empty() == !folders) {
     throw core::InputError::ForParameter("dataset", "give either a dataset folder or --rgb-folder and --depth-folder");
@@ -26,8 +27,16 @@ io::RgbdSequence OpenSequence(const SequenceArgs& args, double depth_factor) {
     throw core::InputError::ForParameter(args.rgb_folder.empty() ? "--rgb-folder" : "--depth-folder",
                                          "is needed too: image folders come in pairs");
   }
+  if (folders && !args.associations.empty()) {
+    throw core::InputError::ForParameter("--associations", "applies to a dataset folder, not to image folders");
+  }
+  if (args.depth_factor && settings_depth_factor) {
+    throw core::InputError::ForParameter(
+        "--depth-factor", "the settings file gives DepthMapFactor already; give the depth factor in one place");
+  }
   io::SequenceOptions options;
-  options.depth_factor = depth_factor;
+  if (args.depth_factor) options.depth_factor = *args.depth_factor;
+  if (settings_depth_factor) options.depth_factor = *settings_depth_factor;
   options.associations = args.associations;
   io::RgbdSequence sequence = folders
                                   ? io::RgbdSequence::OpenImageFolders(args.rgb_folder, args.depth_folder, args.fps, options)
@@ -38,7 +47,7 @@ io::RgbdSequence OpenSequence(const SequenceArgs& args, double depth_factor) {
 
 std::filesystem::path SequenceFolder(const SequenceArgs& args) {
   if (!args.dataset.empty()) return args.dataset;
-  return std::filesystem::absolute(args.rgb_folder).lexically_normal().parent_path();
+  return io::NormalFolder(args.rgb_folder).parent_path();
 }
 
 }  // namespace hoidslam::apps

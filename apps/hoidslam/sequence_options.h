@@ -3,6 +3,7 @@
 // Shared by every command that reads a sequence, so they all accept the same options.
 
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -17,15 +18,16 @@ struct SequenceArgs {
   std::string depth_folder;
   double fps = 30.0;         // frame rate of image folders
   std::string associations;  // optional associations file, relative to the dataset folder
-  double depth_factor = io::SequenceOptions{}.depth_factor;
+  std::optional<double> depth_factor;  // --depth-factor; default: the settings file's, else 5000
 };
 
 // Adds the positional dataset and --rgb-folder, --depth-folder, --fps, --associations, --depth-factor.
 void AddSequenceOptions(CLI::App& command, SequenceArgs& args);
 
-// Opens what the options name, with `depth_factor` (a settings file's, or --depth-factor). Throws InputError
-// unless exactly one of the dataset folder and the pair of image folders is given, or the sequence is empty.
-io::RgbdSequence OpenSequence(const SequenceArgs& args, double depth_factor);
+// Opens what the options name. The depth factor is --depth-factor or `settings_depth_factor` (a settings file's
+// DepthMapFactor), not both, else 5000. Throws InputError for options that contradict each other (a dataset
+// folder and image folders, --associations with image folders, both depth factors) and for an empty sequence.
+io::RgbdSequence OpenSequence(const SequenceArgs& args, std::optional<double> settings_depth_factor);
 
 // Where a command writes a per-sequence file by default: inside the dataset folder, or beside the image folders.
 std::filesystem::path SequenceFolder(const SequenceArgs& args);

@@ -1,5 +1,6 @@
 #include "hoidslam/core/interrupt.h"
 
+#include <atomic>
 #include <csignal>
 
 #include "hoidslam/core/error.h"
@@ -7,7 +8,9 @@
 namespace hoidslam::core {
 namespace {
 
-volatile std::sig_atomic_t g_signal = 0;
+// Written by the signal handler, read by worker threads polling for a stop: a lock-free atomic is safe for both.
+std::atomic<int> g_signal{0};
+static_assert(std::atomic<int>::is_always_lock_free, "the signal flag must be usable from a signal handler");
 
 extern "C" void RecordSignal(int signal) { g_signal = signal; }
 

@@ -20,7 +20,7 @@ ProgressReporter::ProgressReporter(std::string label, std::size_t total)
     : label_(std::move(label)), total_(total), terminal_(isatty(fileno(stderr)) != 0) {}
 
 ProgressReporter::~ProgressReporter() {
-  if (line_open_) fmt::print(stderr, "\n");
+  if (line_open_) std::fputc('\n', stderr);  // cannot throw, unlike fmt::print to a closed stderr
 }
 
 void ProgressReporter::Update(std::size_t done) {

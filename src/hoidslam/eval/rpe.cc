@@ -43,7 +43,10 @@ RpeResult ComputeRpe(const core::Trajectory& groundtruth, const core::Trajectory
   for (std::size_t i = 0; i < est.size(); ++i) {
     const std::size_t j = options.delta_unit == DeltaUnit::kSeconds
                               ? ClosestIndex(est_stamps, est_stamps[i] + options.delta)
-                              : std::min(i + static_cast<std::size_t>(options.delta), last);
+                              // Compared as doubles first: a huge --rpe-delta must not overflow the cast.
+                              : (options.delta >= static_cast<double>(last - i)
+                                     ? last
+                                     : i + static_cast<std::size_t>(options.delta));
     if (j == last) continue;
     const double t0 = est_stamps[i] + options.offset;
     const double t1 = est_stamps[j] + options.offset;

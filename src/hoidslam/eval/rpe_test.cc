@@ -49,6 +49,8 @@ TEST(ComputeRpeTest, ConstantDriftVelocityGivesThatVelocityPerSecond) {
   const RpeResult frames = ComputeRpe(gt, est, {.delta = 15.0, .delta_unit = DeltaUnit::kFrames});
   EXPECT_EQ(frames.translation.count, 450U - 16U);
   EXPECT_NEAR(frames.translation.mean, 0.065, 1e-9);
+  // A step longer than the whole run leaves no pair: an error that says so, whatever its size.
+  EXPECT_THROW(ComputeRpe(gt, est, {.delta = 1e30, .delta_unit = DeltaUnit::kFrames}), core::InputError);
 }
 
 TEST(ComputeRpeTest, ComposesTheErrorAsTumEvaluateRpeDoes) {

@@ -1,13 +1,16 @@
 #include "hoidslam/io/atomic_file.h"
 
+#include <algorithm>
 #include <atomic>
 #include <string>
+#include <string_view>
 
 #include <fmt/format.h>
 #include <opencv2/imgcodecs.hpp>
 #include <unistd.h>
 
 #include "hoidslam/core/error.h"
+#include "hoidslam/io/files.h"
 
 namespace hoidslam::io {
 
@@ -43,6 +46,82 @@ void AtomicFile::Commit() {
   std::filesystem::rename(temporary_path_, path_, error);
   if (error) throw InputError::InFile(path_, "cannot move the finished file into place: " + error.message());
   committed_ = true;
+}
+
+namespace {
+
+// "<path>.<what>-<pid>" beside `path`. The pid keeps two jobs writing the same folder apart.
+std::filesystem::path FolderSibling(const std::filesystem::path& path, std::string_view what) {
+  return path.parent_path() / fmt::format("{}.{}-{}", path.filename().string(), what, ::getpid());
+}
+
+// True when `folder` is `path` or one of its ancestors, component by component.
+bool HoldsOrIs(const std::filesystem::path& folder, const std::filesystem::path& path) {
+  const auto [folder_end, unused] = std::mismatch(folder.begin(), folder.end(), path.begin(), path.end());
+  return folder_end == folder.end();
+}
+
+}  // namespace
+
+AtomicFolder::AtomicFolder(const std::filesystem::path& path, bool replace, const std::string& parameter,
+                           const std::string& replace_hint)
+    : path_(NormalFolder(path)), temporary_(FolderSibling(path_, "partial")) {
+  namespace fs = std::filesystem;
+  // "/", "." or ".." would put the temporary folder inside `path`, or remove the folder the program runs in.
+  // Symbolic links are resolved so that no other spelling of those folders gets through.
+  std::error_code error;
+  fs::path resolved = fs::weakly_canonical(path_, error);
+  if (error) resolved = path_;
+  const fs::path cwd = fs::current_path();
+  if (HoldsOrIs(path_, cwd) || HoldsOrIs(resolved, cwd)) {
+    throw InputError::ForParameter(parameter, fmt::format("{} is the working directory {} or holds it; give a "
+                                                          "folder of its own",
+                                                          path.string(), cwd.string()));
+  }
+  if (fs::exists(path_)) {
+    if (!fs::is_directory(path_)) throw InputError::ForParameter(parameter, path_.string() + " is a file");
+    if (!replace && !fs::is_empty(path_)) {
+      throw InputError::ForParameter(parameter,
+                                     fmt::format("{} exists and is not empty ({})", path_.string(), replace_hint));
+    }
+  }
+  fs::remove_all(temporary_, error);  // a leftover of an earlier job that had our pid
+  if (!error) fs::create_directories(temporary_, error);
+  if (error) throw InputError::InFile(path_, "cannot create the output folder: " + error.message());
+}
+
+AtomicFolder::~AtomicFolder() {
+  if (committed_) return;
+  std::error_code ignored;
+  std::filesystem::remove_all(temporary_, ignored);
+}
+
+void AtomicFolder::Commit() {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  const bool replacing = fs::exists(path_);
+  const fs::path old = FolderSibling(path_, "old");
+  if (replacing) {
+    fs::remove_all(old, error);  // a leftover of an earlier job that had our pid
+    if (!error) fs::rename(path_, old, error);
+    if (error) throw InputError::InFile(path_, "cannot move the old folder aside: " + error.message());
+  }
+  fs::rename(temporary_, path_, error);
+  if (error) {
+    std::string what = "cannot move the finished folder into place: " + error.message();
+    std::error_code restore;
+    if (replacing) fs::rename(old, path_, restore);
+    if (restore) what += fmt::format("; the old folder is left in {} ({})", old.string(), restore.message());
+    throw InputError::InFile(path_, what);
+  }
+  committed_ = true;
+  if (replacing) {
+    fs::remove_all(old, error);
+    if (error) {
+      throw InputError::InFile(old, "the new folder is in place, but the old one it replaced could not be removed "
+                                    "from here: " + error.message());
+    }
+  }
 }
 
 void WriteImageAtomically(const std::filesystem::path& path, const cv::Mat& image) {

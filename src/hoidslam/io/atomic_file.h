@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <string>
 
 #include <opencv2/core/mat.hpp>
 
@@ -28,6 +29,33 @@ class AtomicFile {
   std::filesystem::path path_;
   std::filesystem::path temporary_path_;
   std::ofstream stream_;
+  bool committed_ = false;
+};
+
+// A folder that appears complete or not at all: everything is written into a temporary sibling
+// "<path>.partial-<pid>", which Commit() renames to `path`. An existing folder at `path` is replaced only then:
+// it is renamed aside to "<path>.old-<pid>", the new one renamed in, and the old one removed, so `path` holds
+// either the old folder or the new one at every moment. Destroyed without Commit(), the temporary folder is
+// removed and `path` is untouched.
+class AtomicFolder {
+ public:
+  // `path` is taken as io::NormalFolder(path). Throws InputError naming `parameter` when `path` is a file, is the
+  // working directory or holds it (replacing it would remove the folder the program runs in), or exists, is not
+  // empty and `replace` is false (`replace_hint` then says how to replace it, e.g. "use --force").
+  AtomicFolder(const std::filesystem::path& path, bool replace, const std::string& parameter,
+               const std::string& replace_hint);
+  ~AtomicFolder();
+  AtomicFolder(const AtomicFolder&) = delete;
+  AtomicFolder& operator=(const AtomicFolder&) = delete;
+
+  const std::filesystem::path& path() const { return path_; }
+  const std::filesystem::path& temporary() const { return temporary_; }  // write here
+
+  void Commit();
+
+ private:
+  std::filesystem::path path_;
+  std::filesystem::path temporary_;
   bool committed_ = false;
 };
 

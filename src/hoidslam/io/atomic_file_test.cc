@@ -76,5 +76,47 @@ TEST(WriteImageAtomically, FailureLeavesNothing) {
   EXPECT_EQ(CountEntries(dir.path()), 0U);
 }
 
+TEST(AtomicFolder, AppearsOnlyOnCommitAndReplacesTheOldOneThen) {
+  testing::TempDir dir;
+  const auto out = dir / "seq";
+  std::filesystem::create_directories(out);
+  std::ofstream(out / "old.txt") << "old\n";
+  EXPECT_THROW(AtomicFolder(out, false, "--out", "use --force"), core::InputError);
+  {
+    AtomicFolder folder(out, true, "--out", "use --force");
+    std::ofstream(folder.temporary() / "new.txt") << "new\n";
+    EXPECT_EQ(ReadAll(out / "old.txt"), "old\n");  // untouched until the commit
+    folder.Commit();
+  }
+  EXPECT_FALSE(std::filesystem::exists(out / "old.txt"));
+  EXPECT_EQ(ReadAll(out / "new.txt"), "new\n");
+  EXPECT_EQ(CountEntries(dir.path()), 1U);  // no temporary or old folder left
+}
+
+TEST(AtomicFolder, AbandonedFolderLeavesNothingAndKeepsTheOldOne) {
+  testing::TempDir dir;
+  std::filesystem::create_directories(dir / "seq");
+  std::ofstream(dir / "seq" / "old.txt") << "old\n";
+  {
+    AtomicFolder folder(dir / "seq/", true, "--out", "use --force");  // a trailing separator names the same folder
+    EXPECT_EQ(folder.path().filename(), "seq");
+    std::ofstream(folder.temporary() / "half.txt") << "half";
+  }
+  EXPECT_EQ(ReadAll(dir / "seq" / "old.txt"), "old\n");
+  EXPECT_EQ(CountEntries(dir.path()), 1U);
+}
+
+TEST(AtomicFolder, RefusesTheWorkingDirectoryAndItsAncestors) {
+  const std::filesystem::path cwd = std::filesystem::current_path();
+  for (const std::filesystem::path& path : {cwd, cwd / ".", cwd.parent_path(), std::filesystem::path("/")}) {
+    try {
+      AtomicFolder folder(path, true, "--out", "use --force");
+      FAIL() << path;
+    } catch (const core::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("parameter --out"), std::string::npos) << e.what();
+    }
+  }
+}
+
 }  // namespace
 }  // namespace hoidslam::io

@@ -4,6 +4,8 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <optional>
+#include <unordered_map>
 #include <utility>
 
 #include <Eigen/Geometry>
@@ -11,7 +13,7 @@
 
 #include "hoidslam/core/enum_names.h"
 #include "hoidslam/core/error.h"
-#include "hoidslam/io/text_lines.h"
+#include "hoidslam/io/rgbd_sequence.h"
 #include "hoidslam/io/trajectory_file.h"
 
 namespace hoidslam::synth {
@@ -37,28 +39,36 @@ core::Pose PoseFromForward(const Eigen::Vector3d& position, const Eigen::Vector3
   return T_wc;
 }
 
-struct AssociatedTimes {
-  double rgb = 0.0;
-  double depth = 0.0;
-};
-
-std::vector<AssociatedTimes> ReadAssociations(const std::filesystem::path& path) {
-  std::vector<AssociatedTimes> times;
-  io::ForEachDataLine(path, [&](std::size_t line, const std::vector<std::string_view>& fields) {
-    if (fields.size() < 4) {
-      throw core::InputError::AtLine(path, line, "expected `t_rgb rgb/<file> t_depth depth/<file>`");
-    }
-    const AssociatedTimes entry{io::ParseDouble(fields[0], path, line), io::ParseDouble(fields[2], path, line)};
-    if (!times.empty() && entry.rgb <= times.back().rgb) {
-      throw core::InputError::AtLine(path, line, "RGB timestamps must increase from line to line");
-    }
-    times.push_back(entry);
-  });
-  return times;
-}
-
 void RequireFile(const std::filesystem::path& path) {
   if (!std::filesystem::is_regular_file(path)) throw core::InputError::InFile(path, "file not found");
+}
+
+// Two frames whose RGB (or depth) stamps print alike: `frame` repeats the stamp of the `earlier` one.
+struct StampClash {
+  std::size_t frame = 0;
+  std::size_t earlier = 0;
+  std::string_view kind;    // "RGB" or "depth"
+  std::string_view folder;  // where their images would go: "rgb" or "depth"
+  std::string stamp;
+};
+
+// Frames are written to files named by their stamp text, so frames whose stamps print alike would write the same
+// file (concurrently) and repeat it in the lists. RGB stamps of different frames are distinct numbers, but may
+// round alike; depth stamps repeat whenever an associations file pairs two colour images with one depth image.
+std::optional<StampClash> FindStampClash(const std::vector<CameraFrame>& frames) {
+  std::unordered_map<std::string, std::size_t> rgb;
+  std::unordered_map<std::string, std::size_t> depth;
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    std::string rgb_stamp = StampText(frames[i].timestamp);
+    if (const auto [at, added] = rgb.try_emplace(rgb_stamp, i); !added) {
+      return StampClash{i, at->second, "RGB", "rgb", std::move(rgb_stamp)};
+    }
+    std::string depth_stamp = StampText(frames[i].depth_timestamp);
+    if (const auto [at, added] = depth.try_emplace(depth_stamp, i); !added) {
+      return StampClash{i, at->second, "depth", "depth", std::move(depth_stamp)};
+    }
+  }
+  return std::nullopt;
 }
 
 // The motion relative to the first pose, in the first camera's frame, at `phase` radians of the cycle.
@@ -135,6 +145,17 @@ void ProceduralPathOptions::Check() const {
   if (!(period > 0.0 && std::isfinite(period))) fail("period", fmt::format("must be > 0 seconds, got {}", period));
 }
 
+core::Pose LerpPose(const core::Pose& a, const core::Pose& b, double s) {
+  // The ends are returned as given, so that a pose sampled exactly at a knot (or an object at the end of a
+  // motion) is bit-identical to the knot rather than a quaternion round trip away from it.
+  if (s <= 0.0) return a;
+  if (s >= 1.0) return b;
+  core::Pose pose = core::Pose::Identity();
+  pose.linear() = Eigen::Quaterniond(a.linear()).slerp(s, Eigen::Quaterniond(b.linear())).toRotationMatrix();
+  pose.translation() = a.translation() + s * (b.translation() - a.translation());
+  return pose;
+}
+
 core::Pose InterpolatePose(const core::Trajectory& trajectory, double timestamp) {
   const auto after = std::upper_bound(trajectory.begin(), trajectory.end(), timestamp,
                                       [](double t, const core::StampedPose& pose) { return t < pose.timestamp; });
@@ -142,15 +163,10 @@ core::Pose InterpolatePose(const core::Trajectory& trajectory, double timestamp)
   if (after == trajectory.end()) return trajectory.back().T_wc;
   const core::StampedPose& a = *(after - 1);
   const core::StampedPose& b = *after;
-  const double s = (timestamp - a.timestamp) / (b.timestamp - a.timestamp);
-  if (s == 0.0) return a.T_wc;
-  const Eigen::Quaterniond qa(a.T_wc.linear());
-  const Eigen::Quaterniond qb(b.T_wc.linear());
-  core::Pose pose = core::Pose::Identity();
-  pose.linear() = qa.slerp(s, qb).toRotationMatrix();
-  pose.translation() = (1.0 - s) * a.T_wc.translation() + s * b.T_wc.translation();
-  return pose;
+  return LerpPose(a.T_wc, b.T_wc, (timestamp - a.timestamp) / (b.timestamp - a.timestamp));
 }
+
+std::string StampText(double timestamp) { return fmt::format("{:.6f}", timestamp); }
 
 CameraPath CameraPath::FromTum(const std::filesystem::path& groundtruth, const std::filesystem::path& associations,
                                const core::Pose& T_anchor, std::size_t max_frames) {
@@ -158,21 +174,30 @@ CameraPath CameraPath::FromTum(const std::filesystem::path& groundtruth, const s
   RequireFile(associations);
   const core::Trajectory truth = io::ReadTumTrajectory(groundtruth);
   if (truth.empty()) throw core::InputError::InFile(groundtruth, "holds no pose");
-  const std::vector<AssociatedTimes> times = ReadAssociations(associations);
+  const std::vector<io::AssociationLine> lines = io::ReadAssociationList(associations);
 
   CameraPath path;
+  std::vector<std::size_t> line_of_frame;  // for messages about a frame
   core::Pose T_anchor_tum = core::Pose::Identity();  // T_anchor * T_tum_wc(t0)^-1
-  for (const AssociatedTimes& time : times) {
-    if (time.rgb < truth.front().timestamp || time.rgb > truth.back().timestamp) continue;
+  for (const io::AssociationLine& line : lines) {
+    if (line.rgb_timestamp < truth.front().timestamp || line.rgb_timestamp > truth.back().timestamp) continue;
     if (max_frames > 0 && path.frames_.size() == max_frames) break;
-    const core::Pose T_tum_wc = InterpolatePose(truth, time.rgb);
+    const core::Pose T_tum_wc = InterpolatePose(truth, line.rgb_timestamp);
     if (path.frames_.empty()) T_anchor_tum = T_anchor * T_tum_wc.inverse();
-    path.frames_.push_back({time.rgb, time.depth, T_anchor_tum * T_tum_wc});
+    path.frames_.push_back({line.rgb_timestamp, line.depth_timestamp, T_anchor_tum * T_tum_wc});
+    line_of_frame.push_back(line.line);
   }
   if (path.frames_.empty()) {
     throw core::InputError::InFile(
         associations, fmt::format("no frame falls within the time span of {} ({:.6f} to {:.6f})", groundtruth.string(),
                                   truth.front().timestamp, truth.back().timestamp));
+  }
+  if (const auto clash = FindStampClash(path.frames_)) {
+    throw core::InputError::AtLine(
+        associations, line_of_frame[clash->frame],
+        fmt::format("the {} timestamp {} is the same as on line {} at 6 decimals: both frames would be written to "
+                    "{}/{}.png",
+                    clash->kind, clash->stamp, line_of_frame[clash->earlier], clash->folder, clash->stamp));
   }
   return path;
 }
@@ -186,6 +211,12 @@ CameraPath CameraPath::Procedural(const ProceduralPathOptions& options) {
     const double timestamp = options.start_time + elapsed;
     const core::Pose T_wc = options.T_anchor * RelativeMotion(options, 2.0 * std::numbers::pi * elapsed / options.period);
     path.frames_.push_back({timestamp, timestamp, T_wc});
+  }
+  if (const auto clash = FindStampClash(path.frames_)) {
+    throw core::InputError::ForParameter(
+        "camera.fps", fmt::format("{} frames per second puts frames {} and {} at the same timestamp {} at 6 "
+                                  "decimals (the precision of the file names)",
+                                  options.fps, clash->earlier, clash->frame, clash->stamp));
   }
   return path;
 }

@@ -60,18 +60,21 @@ struct ProceduralPathOptions {
 
 class CameraPath {
  public:
-  // A real camera path: frame times from an associations file (`t_rgb rgb/... t_depth depth/...` lines; blank
-  // and '#' lines skipped), poses from a TUM ground-truth trajectory (io::ReadTumTrajectory), interpolated at
-  // each RGB time (linear position, slerp rotation, across any gap in the ground truth). Frames before the
-  // first or after the last ground-truth pose are dropped. `max_frames` > 0 keeps only the first max_frames.
-  // Throws InputError naming the file (and line) when a file is missing or malformed, and when no frame
-  // falls within the ground truth.
+  // A real camera path: frame times from an associations file (io::ReadAssociationList: sorted by RGB time,
+  // a repeated RGB time keeps its last line), poses from a TUM ground-truth trajectory (io::ReadTumTrajectory),
+  // interpolated at each RGB time (linear position, slerp rotation, across any gap in the ground truth).
+  // Frames before the first or after the last ground-truth pose are dropped. `max_frames` > 0 keeps only the
+  // first max_frames. Throws InputError naming the file (and line) when a file is missing or malformed, when no
+  // frame falls within the ground truth, and when two frames' RGB or depth times are alike in StampText.
   static CameraPath FromTum(const std::filesystem::path& groundtruth, const std::filesystem::path& associations,
                             const core::Pose& T_anchor, std::size_t max_frames = 0);
 
-  // A procedural path (options.Check() is applied). Depth timestamps equal RGB timestamps.
+  // A procedural path (options.Check() is applied). Depth timestamps equal RGB timestamps. Throws InputError
+  // naming camera.fps when frames come so fast that their times are alike in StampText.
   static CameraPath Procedural(const ProceduralPathOptions& options);
 
+  // In time order. No two frames share an RGB or a depth StampText, so every frame's images get files of
+  // their own.
   const std::vector<CameraFrame>& frames() const { return frames_; }
   std::size_t size() const { return frames_.size(); }
   // The camera poses as a ground-truth trajectory (RGB timestamps).
@@ -81,8 +84,15 @@ class CameraPath {
   std::vector<CameraFrame> frames_;
 };
 
-// The pose of `trajectory` (sorted by time, non-empty) at `timestamp` within its time span: linear in
-// position, slerp in rotation between the two bracketing poses; exact at the poses themselves.
+// The pose a fraction `s` of the way from `a` to `b`: linear in position, slerp in rotation; exactly `a` for
+// s <= 0 and exactly `b` for s >= 1.
+core::Pose LerpPose(const core::Pose& a, const core::Pose& b, double s);
+
+// The pose of `trajectory` (sorted by time, non-empty) at `timestamp` within its time span: LerpPose between
+// the two bracketing poses; exact at the poses themselves.
 core::Pose InterpolatePose(const core::Trajectory& trajectory, double timestamp);
+
+// A timestamp as written to the TUM lists and in the image file names of a sequence: `%.6f`.
+std::string StampText(double timestamp);
 
 }  // namespace hoidslam::synth

@@ -115,14 +115,66 @@ TEST_F(TumFiles, BadFilesNameTheFileAndLine) {
   EXPECT_NE(Message([&] { CameraPath::FromTum(dir_ / "groundtruth.txt", dir_ / "short.txt", anchor); })
                 .find("short.txt:2:"),
             std::string::npos);
-  WriteText(dir_ / "backwards.txt", "100.2 rgb/a.png 100.2 depth/a.png\n100.1 rgb/b.png 100.1 depth/b.png\n");
-  EXPECT_NE(Message([&] { CameraPath::FromTum(dir_ / "groundtruth.txt", dir_ / "backwards.txt", anchor); })
-                .find("backwards.txt:2:"),
+  WriteText(dir_ / "text.txt", "100.0 rgb/a.png 100.0 depth/a.png\n100.1 rgb/b.png one depth/b.png\n");
+  EXPECT_NE(Message([&] { CameraPath::FromTum(dir_ / "groundtruth.txt", dir_ / "text.txt", anchor); })
+                .find("text.txt:2:"),
             std::string::npos);
   WriteText(dir_ / "later.txt", "200.0 rgb/a.png 200.0 depth/a.png\n");
   EXPECT_NE(Message([&] { CameraPath::FromTum(dir_ / "groundtruth.txt", dir_ / "later.txt", anchor); })
                 .find("no frame falls within"),
             std::string::npos);
+}
+
+TEST_F(TumFiles, LinesOutOfOrderAreTakenInTimeOrder) {
+  WriteText(dir_ / "backwards.txt", "100.2 rgb/a.png 100.2 depth/a.png\n100.1 rgb/b.png 100.1 depth/b.png\n");
+  const CameraPath path = CameraPath::FromTum(dir_ / "groundtruth.txt", dir_ / "backwards.txt", core::Pose::Identity());
+  ASSERT_EQ(path.size(), 2U);
+  EXPECT_DOUBLE_EQ(path.frames()[0].timestamp, 100.1);
+  EXPECT_DOUBLE_EQ(path.frames()[1].timestamp, 100.2);
+}
+
+// Frames are written to files named by StampText: two frames whose stamps print alike would write one file.
+TEST_F(TumFiles, FramesThatWouldShareAFileNameTheirLines) {
+  const core::Pose anchor = core::Pose::Identity();
+  // Two colour images paired with one depth image.
+  WriteText(dir_ / "shared_depth.txt", "100.0 rgb/a.png 100.0 depth/a.png\n"
+                                       "100.1 rgb/b.png 100.1 depth/b.png\n"
+                                       "100.2 rgb/c.png 100.1 depth/b.png\n");
+  const std::string shared =
+      Message([&] { CameraPath::FromTum(dir_ / "groundtruth.txt", dir_ / "shared_depth.txt", anchor); });
+  EXPECT_NE(shared.find("shared_depth.txt:3: the depth timestamp 100.100000 is the same as on line 2"),
+            std::string::npos)
+      << shared;
+  // Two colour times that differ below a microsecond.
+  WriteText(dir_ / "close_rgb.txt", "100.0000001 rgb/a.png 100.0 depth/a.png\n"
+                                    "100.0000002 rgb/b.png 100.1 depth/b.png\n");
+  const std::string close =
+      Message([&] { CameraPath::FromTum(dir_ / "groundtruth.txt", dir_ / "close_rgb.txt", anchor); });
+  EXPECT_NE(close.find("close_rgb.txt:2: the RGB timestamp 100.000000 is the same as on line 1"), std::string::npos)
+      << close;
+}
+
+TEST(CameraPath, ProceduralFramesTooFastForTheStampsAreAnError) {
+  ProceduralPathOptions options;
+  options.frames = 3;
+  options.fps = 30.0;
+  EXPECT_EQ(CameraPath::Procedural(options).size(), 3U);
+  options.fps = 4e6;  // 0.25 microseconds apart
+  EXPECT_NE(Message([&] { CameraPath::Procedural(options); }).find("parameter camera.fps"), std::string::npos);
+}
+
+TEST(CameraPath, LerpPoseIsExactAtItsEnds) {
+  const core::Pose a = MakePose({1, 2, 3}, 0.3, {1, 1, 0});
+  const core::Pose b = MakePose({-1, 0, 2}, 1.1, {0, 1, 1});
+  EXPECT_TRUE(LerpPose(a, b, 0.0).isApprox(a, 0.0));
+  EXPECT_TRUE(LerpPose(a, b, 1.0).isApprox(b, 0.0));
+  const core::Pose half = LerpPose(a, b, 0.5);
+  EXPECT_LT((half.translation() - Eigen::Vector3d(0, 1, 2.5)).norm(), 1e-12);
+  // Halfway in rotation: as far from a as from b.
+  const double from_a = Eigen::AngleAxisd(a.linear().transpose() * half.linear()).angle();
+  const double from_b = Eigen::AngleAxisd(half.linear().transpose() * b.linear()).angle();
+  EXPECT_NEAR(from_a, from_b, 1e-12);
+  EXPECT_GT(from_a, 0.1);
 }
 
 TEST(CameraPath, RealWalkingXyzPathHasTheRealTimingAndSpeed) {

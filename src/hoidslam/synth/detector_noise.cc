@@ -7,16 +7,11 @@
 
 #include "hoidslam/core/error.h"
 #include "hoidslam/synth/office.h"
+#include "hoidslam/synth/option_checks.h"
 #include "hoidslam/synth/random.h"
 
 namespace hoidslam::synth {
 namespace {
-
-void CheckRange(double value, double lo, double hi, const std::string& name) {
-  if (!(value >= lo && value <= hi)) {
-    throw core::InputError::ForParameter(name, fmt::format("{} is outside [{}, {}]", value, lo, hi));
-  }
-}
 
 core::Detection Labelled(core::Detection detection, const std::string& label) {
   detection.label = label;
@@ -42,10 +37,10 @@ std::string DetectorNoiseOptions::Describe() const {
 }
 
 void DetectorNoiseOptions::Check(const std::string& prefix) const {
-  CheckRange(miss_rate, 0.0, 1.0, prefix + ".miss_rate");
-  CheckRange(box_jitter, 0.0, 1.0, prefix + ".box_jitter");
-  CheckRange(false_positive_rate, 0.0, 100.0, prefix + ".false_positive_rate");
-  CheckRange(class_confusion_rate, 0.0, 1.0, prefix + ".class_confusion_rate");
+  CheckInRange(miss_rate, 0.0, 1.0, prefix + ".miss_rate");
+  CheckInRange(box_jitter, 0.0, 1.0, prefix + ".box_jitter");
+  CheckInRange(false_positive_rate, 0.0, 100.0, prefix + ".false_positive_rate");
+  CheckInRange(class_confusion_rate, 0.0, 1.0, prefix + ".class_confusion_rate");
 }
 
 const std::vector<std::string>& SyntheticLabels() {

@@ -3,6 +3,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "hoidslam/core/error.h"
 #include "hoidslam/synth/office.h"
 
@@ -98,8 +100,11 @@ TEST(DetectorNoise, CheckNamesTheParameter) {
     o.Check();
     FAIL() << "no error";
   } catch (const core::InputError& e) {
-    EXPECT_THAT(e.what(), ::testing::HasSubstr("detector_noise.miss_rate"));
+    // The same wording as the sensor noise options (one shared check).
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("parameter detector_noise.miss_rate: must be in [0, 1], got 1.5"));
   }
+  o.miss_rate = std::nan("");
+  EXPECT_THROW(o.Check(), core::InputError);
   o.miss_rate = 0.1;
   o.box_jitter = 0.05;
   EXPECT_NO_THROW(o.Check());

@@ -10,6 +10,7 @@
 #include <numbers>
 #include <set>
 
+#include "hoidslam/core/enum_names.h"
 #include "hoidslam/core/error.h"
 
 namespace hoidslam::synth {
@@ -18,9 +19,19 @@ namespace {
 using Eigen::Vector2d;
 using Eigen::Vector3d;
 
+constexpr core::EnumNames<ObjectKind, 8> kKindNames = {{
+    {ObjectKind::kTv, "tv"},
+    {ObjectKind::kKeyboard, "keyboard"},
+    {ObjectKind::kMouse, "mouse"},
+    {ObjectKind::kLaptop, "laptop"},
+    {ObjectKind::kBook, "book"},
+    {ObjectKind::kCup, "cup"},
+    {ObjectKind::kBottle, "bottle"},
+    {ObjectKind::kChair, "chair"},
+}};
+
 struct KindInfo {
   ObjectKind kind;
-  std::string_view label;
   int coco_id;
   Vector3d half_extents;
   bool two_handed;
@@ -28,16 +39,17 @@ struct KindInfo {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
+// Indexed by ObjectKind.
 const std::array<KindInfo, 8>& Kinds() {
   static const std::array<KindInfo, 8> kinds = {{
-      {ObjectKind::kTv, "tv", 62, {0.12, 0.30, 0.28}, true},
-      {ObjectKind::kKeyboard, "keyboard", 66, {0.075, 0.22, 0.012}, true},
-      {ObjectKind::kMouse, "mouse", 64, {0.05, 0.03, 0.018}, false},
-      {ObjectKind::kLaptop, "laptop", 63, {0.155, 0.165, 0.121}, true},
-      {ObjectKind::kBook, "book", 73, {0.12, 0.085, 0.02}, true},
-      {ObjectKind::kCup, "cup", 41, {0.04, 0.058, 0.05}, false},
-      {ObjectKind::kBottle, "bottle", 39, {0.035, 0.035, 0.135}, false},
-      {ObjectKind::kChair, "chair", 56, {0.235, 0.23, 0.475}, true},
+      {ObjectKind::kTv, 62, {0.12, 0.30, 0.28}, true},
+      {ObjectKind::kKeyboard, 66, {0.075, 0.22, 0.012}, true},
+      {ObjectKind::kMouse, 64, {0.05, 0.03, 0.018}, false},
+      {ObjectKind::kLaptop, 63, {0.155, 0.165, 0.121}, true},
+      {ObjectKind::kBook, 73, {0.12, 0.085, 0.02}, true},
+      {ObjectKind::kCup, 41, {0.04, 0.058, 0.05}, false},
+      {ObjectKind::kBottle, 39, {0.035, 0.035, 0.135}, false},
+      {ObjectKind::kChair, 56, {0.235, 0.23, 0.475}, true},
   }};
   return kinds;
 }
@@ -190,21 +202,16 @@ OfficeObject Obj(std::string name, ObjectKind kind, Vector2d xy, double yaw_deg,
 
 }  // namespace
 
-std::string_view CocoLabel(ObjectKind kind) { return Info(kind).label; }
+std::string_view CocoLabel(ObjectKind kind) { return core::EnumName(kKindNames, kind); }
 
 ObjectKind ParseObjectKind(std::string_view label, const std::string& parameter) {
-  std::string known;
-  for (const KindInfo& info : Kinds()) {
-    if (info.label == label) return info.kind;
-    known += (known.empty() ? "" : ", ") + std::string(info.label);
-  }
-  throw core::InputError::ForParameter(parameter, fmt::format("unknown object type '{}' (known: {})", label, known));
+  return core::ParseEnumName(kKindNames, label, parameter, "object type");
 }
 
 int CocoClassId(std::string_view label) {
   if (label == "person") return 0;
-  for (const KindInfo& info : Kinds()) {
-    if (info.label == label) return info.coco_id;
+  for (const auto& [kind, name] : kKindNames) {
+    if (name == label) return Info(kind).coco_id;
   }
   return -1;
 }
@@ -225,7 +232,8 @@ bool OfficeLayout::IsBlocked(const Vector2d& xy, double margin) const {
   return std::any_of(obstacles.begin(), obstacles.end(), [&](const Footprint& f) { return f.Contains(xy, margin); });
 }
 
-std::vector<Vector2d> OfficeLayout::Route(const Vector2d& from, const Vector2d& to, double clearance) const {
+std::optional<std::vector<Vector2d>> OfficeLayout::Route(const Vector2d& from, const Vector2d& to,
+                                                         double clearance) const {
   // Footprints that an end of the route is too close to keep only a token margin, so that the route can reach
   // that end but still never cuts through the furniture.
   constexpr double kTokenMargin = 0.02;
@@ -238,7 +246,7 @@ std::vector<Vector2d> OfficeLayout::Route(const Vector2d& from, const Vector2d& 
     return std::none_of(obstacles.begin(), obstacles.end(),
                         [&](const auto& obstacle) { return obstacle.first.Crosses(a, b, obstacle.second); });
   };
-  if (clear(from, to)) return {to};
+  if (clear(from, to)) return std::vector<Vector2d>{to};
   // Shortest path over a visibility graph: node 0 = from, node 1 = to, then the free grown corners.
   std::vector<Vector2d> nodes = {from, to};
   for (const auto& [f, margin] : obstacles) {
@@ -272,7 +280,7 @@ std::vector<Vector2d> OfficeLayout::Route(const Vector2d& from, const Vector2d& 
       }
     }
   }
-  if (previous[1] == n) return {to};
+  if (previous[1] == n) return std::nullopt;
   std::vector<Vector2d> route;
   for (std::size_t i = 1; i != 0; i = previous[i]) route.push_back(nodes[i]);
   std::reverse(route.begin(), route.end());
@@ -291,7 +299,7 @@ core::Pose OfficeLayout::RestPose(const OfficeObject& object) const {
   return PoseAt({object.position.x(), object.position.y(), z}, object.yaw_deg * kDeg);
 }
 
-void OfficeLayout::Check(const std::string& source, const std::string& key) const {
+void OfficeLayout::Check(const std::string& source, const std::string& key, const OfficeLayout& base) const {
   auto fail = [&](const std::string& where, const std::string& what) {
     throw core::InputError::InFile(source, fmt::format("{}.{}: {}", key, where, what));
   };
@@ -299,31 +307,57 @@ void OfficeLayout::Check(const std::string& source, const std::string& key) cons
   auto inside = [&](const Vector2d& xy) {
     return xy.x() > 0.0 && xy.y() > 0.0 && xy.x() < room.x() && xy.y() < room.y();
   };
+  // Entry i of a list: the first `base_count` come from the base layout, which is valid in its own room, so
+  // they can only go wrong in a smaller room (the fault of "room"); the user's own entries are named by their
+  // index in the user's array.
+  auto entry_fail = [&](std::string_view list, std::size_t i, std::size_t base_count, const std::string& name,
+                        std::string_view field, const std::string& what) {
+    if (i < base_count) fail("room", fmt::format("{} of the base office: {}.{}: {}", name, list, field, what));
+    fail(fmt::format("{}[{}].{}", list, i - base_count, field), what);
+  };
+  std::set<std::string> base_names;
   std::set<std::string> names;
-  auto unique = [&](const std::string& where, const std::string& name) {
-    if (name.empty()) fail(where + ".name", "must not be empty");
-    if (!names.insert(name).second) fail(where + ".name", fmt::format("duplicate name '{}'", name));
+  auto unique = [&](std::string_view list, std::size_t i, std::size_t base_count, const std::string& name) {
+    if (name.empty()) entry_fail(list, i, base_count, name, "name", "must not be empty");
+    if (!names.insert(name).second) {
+      entry_fail(list, i, base_count, name, "name",
+                 fmt::format("duplicate name '{}'{}", name, base_names.contains(name) ? " (the base office has it)" : ""));
+    }
+    if (i < base_count) base_names.insert(name);
   };
   for (std::size_t i = 0; i < desks.size(); ++i) {
-    const std::string where = fmt::format("desks[{}]", i);
-    unique(where, desks[i].name);
-    if (!inside(desks[i].position)) fail(where + ".position", "outside the room");
-    if ((desks[i].size.array() <= 0.0).any()) fail(where + ".size", "must be positive");
-    if (desks[i].height <= 0.1 || desks[i].height >= room.z()) fail(where + ".height", "must be in (0.1, room height)");
+    const Desk& desk = desks[i];
+    const auto desk_fail = [&](std::string_view field, const std::string& what) {
+      entry_fail("desks", i, base.desks.size(), desk.name, field, what);
+    };
+    unique("desks", i, base.desks.size(), desk.name);
+    if (!inside(desk.position)) desk_fail("position", "outside the room");
+    if ((desk.size.array() <= 0.0).any()) desk_fail("size", "must be positive");
+    if (desk.height <= 0.1 || desk.height >= room.z()) desk_fail("height", "must be in (0.1, room height)");
   }
   for (std::size_t i = 0; i < shelves.size(); ++i) {
-    const std::string where = fmt::format("shelves[{}]", i);
-    unique(where, shelves[i].name);
-    if (!inside(shelves[i].position)) fail(where + ".position", "outside the room");
-    if ((shelves[i].size.array() <= 0.0).any()) fail(where + ".size", "must be positive");
-    if (shelves[i].boards < 2) fail(where + ".boards", "must be at least 2");
+    const Shelf& shelf = shelves[i];
+    const auto shelf_fail = [&](std::string_view field, const std::string& what) {
+      entry_fail("shelves", i, base.shelves.size(), shelf.name, field, what);
+    };
+    unique("shelves", i, base.shelves.size(), shelf.name);
+    if (!inside(shelf.position)) shelf_fail("position", "outside the room");
+    if ((shelf.size.array() <= 0.0).any()) shelf_fail("size", "must be positive");
+    if (shelf.boards < 2) shelf_fail("boards", "must be at least 2");
   }
   for (std::size_t i = 0; i < objects.size(); ++i) {
-    const std::string where = fmt::format("objects[{}]", i);
-    unique(where, objects[i].name);
-    if (!inside(objects[i].position)) fail(where + ".position", "outside the room");
-    if (objects[i].z && (*objects[i].z < 0.0 || *objects[i].z >= room.z())) fail(where + ".z", "outside the room");
+    const OfficeObject& object = objects[i];
+    const auto object_fail = [&](std::string_view field, const std::string& what) {
+      entry_fail("objects", i, base.objects.size(), object.name, field, what);
+    };
+    unique("objects", i, base.objects.size(), object.name);
+    if (!inside(object.position)) object_fail("position", "outside the room");
+    if (object.z && (*object.z < 0.0 || *object.z >= room.z())) object_fail("z", "outside the room");
   }
+}
+
+void OfficeLayout::Check(const std::string& source, const std::string& key) const {
+  Check(source, key, OfficeLayout{});
 }
 
 OfficeLayout DefaultOfficeLayout() {

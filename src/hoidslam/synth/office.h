@@ -69,14 +69,20 @@ struct OfficeLayout {
   // A walking route from `from` to `to` keeping `clearance` metres from desks and shelves: the waypoints after
   // `from`, ending with `to`. Straight when nothing is in the way, else the shortest path via the corners of
   // the footprints grown by the clearance. A footprint that `from` or `to` itself is too close to keeps only a
-  // token margin (people walk up to desks), and when no way round exists the route is straight.
-  std::vector<Eigen::Vector2d> Route(const Eigen::Vector2d& from, const Eigen::Vector2d& to, double clearance) const;
+  // token margin (people walk up to desks). Nullopt when there is no way round (`to` inside a desk, or walled
+  // in): the caller names the action that asked for it.
+  std::optional<std::vector<Eigen::Vector2d>> Route(const Eigen::Vector2d& from, const Eigen::Vector2d& to,
+                                                    double clearance) const;
   // The object named `name`, or nullptr.
   const OfficeObject* FindObject(std::string_view name) const;
   // The resting pose of `object` (its base height resolved with SupportHeightAt when not given).
   core::Pose RestPose(const OfficeObject& object) const;
-  // Throws InputError "<source>: <key>: ..." for duplicate names, a non-positive size, or anything outside
-  // the room; `key` is the layout's key in the scenario ("office").
+  // Throws InputError "<source>: <key>.<list>[i].<field>: ..." for duplicate names, a non-positive size, or
+  // anything outside the room; `key` is the layout's key in the scenario ("office"). `base` is the layout this
+  // one extends: its desks, shelves and objects come first in each list, and i counts from the first entry
+  // after them, as in the scenario's own arrays. A base entry outside a smaller room is blamed on "room".
+  void Check(const std::string& source, const std::string& key, const OfficeLayout& base) const;
+  // The same for a layout of its own (no base).
   void Check(const std::string& source, const std::string& key) const;
 };
 

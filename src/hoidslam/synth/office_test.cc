@@ -76,22 +76,26 @@ TEST(Office, RoutesGoRoundDesksAndShelves) {
   const OfficeLayout office = DefaultOfficeLayout();
   // In the open: straight.
   const auto straight = office.Route({1.0, 2.5}, {7.0, 2.5}, 0.3);
-  ASSERT_EQ(straight.size(), 1U);
-  EXPECT_TRUE(straight[0].isApprox(Eigen::Vector2d(7.0, 2.5)));
+  ASSERT_TRUE(straight.has_value());
+  ASSERT_EQ(straight->size(), 1U);
+  EXPECT_TRUE((*straight)[0].isApprox(Eigen::Vector2d(7.0, 2.5)));
   // From in front of the middle desks to behind them: round a corner, never over a desk or the shelf.
   const Eigen::Vector2d from(3.6, 2.6);
   const Eigen::Vector2d to(3.6, 4.95);
   const auto route = office.Route(from, to, 0.3);
-  ASSERT_GE(route.size(), 2U);
-  EXPECT_TRUE(route.back().isApprox(to));
+  ASSERT_TRUE(route.has_value());
+  ASSERT_GE(route->size(), 2U);
+  EXPECT_TRUE(route->back().isApprox(to));
   Eigen::Vector2d a = from;
   double length = 0.0;
-  for (const Eigen::Vector2d& b : route) {
+  for (const Eigen::Vector2d& b : *route) {
     for (double s = 0.0; s <= 1.0; s += 0.01) EXPECT_FALSE(office.IsBlocked(a + s * (b - a), 0.25)) << b.transpose();
     length += (b - a).norm();
     a = b;
   }
   EXPECT_LT(length, 6.0);  // round the nearer end of the desk row, not the far one
+  // Into the middle of a desk there is no way: no route rather than a straight line through the desk.
+  EXPECT_FALSE(office.Route({3.2, 2.6}, {3.2, 3.9}, 0.3).has_value());
 }
 
 TEST(Office, LabelsAreCocoClasses) {
@@ -116,6 +120,31 @@ TEST(Office, CheckNamesTheBadEntry) {
   office = DefaultOfficeLayout();
   office.desks[1].position = {9.0, 1.0};
   EXPECT_THROW(office.Check("o.json", "office"), core::InputError);
+}
+
+std::string CheckMessage(const OfficeLayout& office, const OfficeLayout& base) {
+  try {
+    office.Check("o.json", "office", base);
+  } catch (const core::InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(Office, CheckNamesTheUsersOwnIndexAfterABase) {
+  const OfficeLayout base = DefaultOfficeLayout();
+  OfficeLayout office = base;
+  office.desks.push_back({"desk_9", {3.0, 1.0}, 0.0});
+  office.desks.push_back({"desk_10", {9.0, 1.0}, 0.0});
+  EXPECT_THAT(CheckMessage(office, base), HasSubstr("o.json: office.desks[1].position: outside the room"));
+  office = base;
+  office.objects.push_back({"cup_1", ObjectKind::kCup, {1.0, 1.0}, std::nullopt, 0.0, 0});
+  EXPECT_THAT(CheckMessage(office, base),
+              HasSubstr("o.json: office.objects[0].name: duplicate name 'cup_1' (the base office has it)"));
+  // A base entry can only go wrong in a smaller room: the room is named.
+  office = base;
+  office.room = {4.0, 4.0, 2.8};
+  EXPECT_THAT(CheckMessage(office, base), HasSubstr("o.json: office.room: desk_2 of the base office"));
 }
 
 TEST(Office, StructureIsUnlabelledWithConsecutiveIds) {

@@ -9,16 +9,11 @@
 #include "hoidslam/core/error.h"
 #include "hoidslam/io/atomic_file.h"
 #include "hoidslam/io/detections_file.h"
+#include "hoidslam/io/files.h"
 #include "hoidslam/io/rgbd_sequence.h"
 
 namespace hoidslam::synth {
 namespace {
-
-cv::Mat ReadImage(const std::filesystem::path& path, int flags) {
-  cv::Mat image = cv::imread(path.string(), flags);
-  if (image.empty()) throw core::InputError::InFile(path, "cannot read image");
-  return image;
-}
 
 cv::Scalar LabelColour(const std::string& label) {
   if (label == "person") return {60, 60, 255};
@@ -81,8 +76,9 @@ cv::Mat SequencePreview(const std::filesystem::path& sequence, const PreviewOpti
     const io::SequenceEntry& entry = frames.entry(index);
     const std::filesystem::path mask_path = sequence / "mask" / entry.rgb_path.filename();
     const io::FrameDetections* found = detections.Find(entry.rgb_timestamp);
-    tiles.push_back(Tile(ReadImage(entry.rgb_path, cv::IMREAD_COLOR), ReadImage(entry.depth_path, cv::IMREAD_UNCHANGED),
-                         ReadImage(mask_path, cv::IMREAD_GRAYSCALE),
+    tiles.push_back(Tile(io::ReadImage(entry.rgb_path, cv::IMREAD_COLOR, "colour"),
+                         io::ReadImage(entry.depth_path, cv::IMREAD_UNCHANGED, "depth"),
+                         io::ReadImage(mask_path, cv::IMREAD_GRAYSCALE, "mask"),
                          found != nullptr ? found->detections : std::vector<core::Detection>{}, options));
   }
   cv::Mat strip;

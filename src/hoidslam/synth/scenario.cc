@@ -4,12 +4,14 @@
 
 #include <algorithm>
 #include <array>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <numbers>
 #include <set>
-#include <sstream>
 
 #include "hoidslam/core/enum_names.h"
 #include "hoidslam/core/error.h"
@@ -111,6 +113,22 @@ class Node {
     return v;
   }
 
+  // The value a parser such as ParseObjectKind(text, parameter) reads from this string. Those parsers name the
+  // key as a parameter ("parameter <key>: unknown ..."); the message is given here as every scenario error is,
+  // "<source>: <key>: unknown ...".
+  template <typename Parse>
+  auto Parsed(Parse parse) const {
+    const std::string text = String();
+    try {
+      return parse(text, key_);
+    } catch (const core::InputError& e) {
+      const std::string prefix = core::InputError::ForParameter(key_, "").what();
+      std::string_view what = e.what();
+      if (what.starts_with(prefix)) what.remove_prefix(prefix.size());
+      Fail(std::string(what));
+    }
+  }
+
   // Optional members: the default when absent.
   double NumberOr(const std::string& name, double fallback, double lo, double hi) const {
     return Has(name) ? Child(name).Number(lo, hi) : fallback;
@@ -122,14 +140,8 @@ class Node {
   const std::string& source_;
 };
 
-ActionType ParseActionType(const Node& node) {
-  const std::string name = node.String();
-  std::string known;
-  for (const auto& [type, text] : kActionNames) {
-    if (text == name) return type;
-    known += (known.empty() ? "" : ", ") + std::string(text);
-  }
-  node.Fail(fmt::format("unknown action '{}' (known: {})", name, known));
+ActionType ParseActionType(std::string_view text, const std::string& parameter) {
+  return core::ParseEnumName(kActionNames, text, parameter, "action");
 }
 
 core::Pose ParseAnchor(const Node& camera) {
@@ -163,12 +175,7 @@ CameraSpec ParseCamera(const Node& camera) {
     return spec;
   }
   ProceduralPathOptions& p = spec.procedural;
-  const Node motion = camera.Child("procedural");
-  try {
-    p.motion = ParseProceduralMotion(motion.String(), motion.key());
-  } catch (const core::InputError& e) {
-    motion.Fail(e.what());
-  }
+  p.motion = camera.Child("procedural").Parsed(ParseProceduralMotion);
   p.fps = camera.NumberOr("fps", p.fps, 1.0, 1000.0);
   if (camera.Has("frames")) p.frames = static_cast<std::size_t>(camera.Child("frames").Int(1, 1000000));
   p.amplitude = camera.NumberOr("amplitude", p.amplitude, 0.0, 3.0);
@@ -198,7 +205,7 @@ Action ParseAction(const Node& node, const OfficeLayout& office) {
   node.RequireObject();
   Action action;
   action.key = node.key();
-  action.type = ParseActionType(node.Child("action"));
+  action.type = node.Child("action").Parsed(ParseActionType);
   auto require_chair = [&](const Node& object) {
     if (office.FindObject(action.object)->kind != ObjectKind::kChair) {
       object.Fail(fmt::format("'{}' is not a chair", action.object));
@@ -284,12 +291,7 @@ OfficeObject ParseObject(const Node& node) {
   node.AllowOnly({"name", "type", "position", "z", "yaw_deg", "variant"});
   OfficeObject object;
   object.name = node.Child("name").String();
-  const Node type = node.Child("type");
-  try {
-    object.kind = ParseObjectKind(type.String(), type.key());
-  } catch (const core::InputError&) {
-    type.Fail(fmt::format("unknown object type '{}'", type.String()));
-  }
+  object.kind = node.Child("type").Parsed(ParseObjectKind);
   object.position = node.Child("position").Vector<2>();
   if (node.Has("z")) object.z = node.Child("z").Number(0.0, 10.0);
   object.yaw_deg = node.NumberOr("yaw_deg", 0.0, -360.0, 360.0);
@@ -303,19 +305,16 @@ OfficeLayout ParseOffice(const Node& node, const std::string& source) {
     return DefaultOfficeLayout();
   }
   node.AllowOnly({"base", "room", "desks", "shelves", "objects"});
-  OfficeLayout office;
+  OfficeLayout base;
   if (node.Has("base")) {
-    const Node base = node.Child("base");
-    if (base.String() == "default") {
-      office = DefaultOfficeLayout();
-    } else if (base.String() != "empty") {
-      base.Fail("must be \"default\" or \"empty\"");
+    const Node base_node = node.Child("base");
+    if (base_node.String() == "default") {
+      base = DefaultOfficeLayout();
+    } else if (base_node.String() != "empty") {
+      base_node.Fail("must be \"default\" or \"empty\"");
     }
   }
-  std::set<std::string> base_names;
-  for (const Desk& desk : office.desks) base_names.insert(desk.name);
-  for (const Shelf& shelf : office.shelves) base_names.insert(shelf.name);
-  for (const OfficeObject& object : office.objects) base_names.insert(object.name);
+  OfficeLayout office = base;
   if (node.Has("room")) office.room = node.Child("room").Vector<3>();
   if (node.Has("desks")) {
     const Node desks = node.Child("desks");
@@ -348,15 +347,10 @@ OfficeLayout ParseOffice(const Node& node, const std::string& source) {
   if (node.Has("objects")) {
     const Node objects = node.Child("objects");
     for (std::size_t i = 0, n = objects.ArraySize(); i < n; ++i) {
-      const std::string name = objects.Element(i).Child("name").String();
-      // Clashes with the base layout are reported here, where the user's own index is known.
-      if (base_names.contains(name)) {
-        objects.Element(i).Child("name").Fail(fmt::format("duplicate name '{}' (the default office has it)", name));
-      }
       office.objects.push_back(ParseObject(objects.Element(i)));
     }
   }
-  office.Check(source, node.key());
+  office.Check(source, node.key(), base);
   return office;
 }
 
@@ -460,15 +454,30 @@ Scenario LoadScenario(const std::string& name_or_path) {
     return ParseScenario(*text, fmt::format("scenarios/{}.json", name_or_path));
   }
   const std::filesystem::path path(name_or_path);
-  std::ifstream file(path, std::ios::binary);
-  if (!file) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  const fs::file_status status = fs::status(path, error);
+  if (status.type() == fs::file_type::not_found) {
     throw core::InputError::InFile(path, fmt::format("no such scenario file, and no shipped scenario of that name "
                                                      "(shipped: {})",
                                                      fmt::join(BuiltinScenarioNames(), ", ")));
   }
-  std::ostringstream text;
-  text << file.rdbuf();
-  return ParseScenario(text.str(), path.string());
+  // Without these checks a folder or an unreadable file reads as empty text, reported as bad JSON on line 1.
+  if (status.type() == fs::file_type::none) {
+    throw core::InputError::InFile(path, "cannot look at the scenario file: " + error.message());
+  }
+  if (!fs::is_regular_file(status)) {
+    throw core::InputError::InFile(path, "is a folder or a special file, not a scenario file");
+  }
+  std::ifstream file(path, std::ios::binary);
+  if (!file) {
+    throw core::InputError::InFile(path, fmt::format("cannot open the scenario file: {}", std::strerror(errno)));
+  }
+  const std::string text{std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
+  if (file.bad()) {
+    throw core::InputError::InFile(path, fmt::format("cannot read the scenario file: {}", std::strerror(errno)));
+  }
+  return ParseScenario(text, path.string());
 }
 
 }  // namespace hoidslam::synth

@@ -3,6 +3,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+
+#include <filesystem>
 #include <fstream>
 #include <string>
 
@@ -154,6 +156,24 @@ TEST(Scenario, CustomOfficeLayoutsAreChecked) {
   EXPECT_THAT(ParseError(Valid("[]", R"("office": "big",)")), HasSubstr("office: must be \"default\""));
 }
 
+TEST(Scenario, OfficeErrorsNameTheUsersOwnIndexOverTheDefaultBase) {
+  EXPECT_THAT(ParseError(Valid("[]", R"("office": {"base": "default", "desks": [
+                  {"name": "desk_9", "position": [9, 1]}]},)")),
+              HasSubstr("x.json: office.desks[0].position: outside the room"));
+  EXPECT_THAT(ParseError(Valid("[]", R"("office": {"base": "default", "shelves": [
+                  {"name": "shelf_1", "position": [1, 1]}]},)")),
+              HasSubstr("x.json: office.shelves[0].name: duplicate name 'shelf_1' (the base office has it)"));
+  EXPECT_THAT(ParseError(Valid("[]", R"("office": {"base": "default", "room": [4, 4, 2.8]},)")),
+              HasSubstr("x.json: office.room: desk_2 of the base office"));
+}
+
+TEST(Scenario, NamesAreCheckedAgainstTheirListsWithTheKey) {
+  EXPECT_THAT(ParseError(Valid(R"([{"name": "a", "start": [1, 2], "actions": [{"action": "dance"}]}])")),
+              HasSubstr("x.json: people[0].actions[0].action: unknown action 'dance' (expected walk_to, stop,"));
+  EXPECT_THAT(ParseError(R"({"name": "t", "camera": {"procedural": "zigzag", "position": [4, 1, 1.4]}})"),
+              HasSubstr("x.json: camera.procedural: unknown camera motion 'zigzag' (expected static, xyz,"));
+}
+
 TEST(Scenario, BrokenJsonNamesTheLine) {
   EXPECT_THAT(ParseError("{\n  \"name\": \"t\",\n  \"seed\": ,\n}"), HasSubstr("x.json:3: not valid JSON"));
 }
@@ -169,6 +189,17 @@ TEST(Scenario, LoadsUserFilesAndNamesMissingOnes) {
   } catch (const core::InputError& e) {
     EXPECT_THAT(e.what(), HasSubstr("nope.json: no such scenario file"));
     EXPECT_THAT(e.what(), HasSubstr("walking_xyz"));
+  }
+}
+
+TEST(Scenario, AFolderIsNotTakenForAnEmptyFile) {
+  testing::TempDir temp;
+  std::filesystem::create_directories(temp / "folder.json");
+  try {
+    LoadScenario((temp / "folder.json").string());
+    FAIL() << "no error";
+  } catch (const core::InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("folder.json: is a folder or a special file, not a scenario file"));
   }
 }
 

@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "hoidslam/core/error.h"
+#include "hoidslam/synth/option_checks.h"
 #include "hoidslam/synth/random.h"
 
 namespace hoidslam::synth {
@@ -24,25 +25,18 @@ int ByteSum(std::uint64_t bits, int first, int count) {
   return sum;
 }
 
-void CheckRange(double value, double lo, double hi, const char* name) {
-  if (!(value >= lo && value <= hi)) {
-    throw core::InputError::ForParameter(fmt::format("noise.{}", name),
-                                         fmt::format("must be in [{}, {}], got {}", lo, hi, value));
-  }
-}
-
 }  // namespace
 
 void SensorNoiseOptions::Check() const {
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  CheckRange(rgb_noise_sigma, 0.0, 255.0, "rgb_noise_sigma");
-  CheckRange(rgb_blur_sigma, 0.0, 10.0, "rgb_blur_sigma");
-  CheckRange(depth_noise_scale, 0.0, 100.0, "depth_noise_scale");
+  CheckInRange(rgb_noise_sigma, 0.0, 255.0, "noise.rgb_noise_sigma");
+  CheckInRange(rgb_blur_sigma, 0.0, 10.0, "noise.rgb_blur_sigma");
+  CheckInRange(depth_noise_scale, 0.0, 100.0, "noise.depth_noise_scale");
   if (!(depth_factor > 0.0 && depth_factor <= 1e6)) {
     throw core::InputError::ForParameter("noise.depth_factor", fmt::format("must be in (0, 1e6], got {}", depth_factor));
   }
-  CheckRange(disparity_step, 0.0, 1.0, "disparity_step");
-  CheckRange(min_range, 0.0, kInf, "min_range");
+  CheckInRange(disparity_step, 0.0, 1.0, "noise.disparity_step");
+  CheckInRange(min_range, 0.0, kInf, "noise.min_range");
   if (!(max_range > min_range) || !std::isfinite(max_range)) {
     throw core::InputError::ForParameter("noise.max_range",
                                          fmt::format("must be finite and > min_range ({}), got {}", min_range, max_range));
@@ -54,8 +48,8 @@ void SensorNoiseOptions::Check() const {
   if (!(edge_jump_ratio > 0.0)) {
     throw core::InputError::ForParameter("noise.edge_jump_ratio", fmt::format("must be > 0, got {}", edge_jump_ratio));
   }
-  CheckRange(edge_erosion_probability, 0.0, 1.0, "edge_erosion_probability");
-  CheckRange(dropout_probability, 0.0, 1.0, "dropout_probability");
+  CheckInRange(edge_erosion_probability, 0.0, 1.0, "noise.edge_erosion_probability");
+  CheckInRange(dropout_probability, 0.0, 1.0, "noise.dropout_probability");
 }
 
 double KinectDepthSigma(double z) { return 0.0012 + 0.0019 * (z - 0.4) * (z - 0.4); }

@@ -175,7 +175,8 @@ TEST(SensorNoise, OptionsCheckNamesTheParameter) {
   EXPECT_NE(message_of(options).find("noise.max_range"), std::string::npos);
   options = {};
   options.dropout_probability = 1.5;
-  EXPECT_NE(message_of(options).find("noise.dropout_probability"), std::string::npos);
+  EXPECT_NE(message_of(options).find("parameter noise.dropout_probability: must be in [0, 1], got 1.5"),
+            std::string::npos);
   options = {};
   options.rgb_noise_sigma = -1.0;
   EXPECT_NE(message_of(options).find("noise.rgb_noise_sigma"), std::string::npos);

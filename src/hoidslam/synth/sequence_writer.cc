@@ -1,7 +1,6 @@
 #include "hoidslam/synth/sequence_writer.h"
 
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
@@ -35,29 +34,10 @@ using nlohmann::json;
 // Purposes of the per-frame seeds (random.h FrameSeed).
 enum SeedPurpose : std::uint64_t { kRgbNoise = 1, kDepthNoise = 2, kDetectorNoise = 3 };
 
-std::string Stamp(double timestamp) { return fmt::format("{:.6f}", timestamp); }
-
 // What a rendered frame leaves for the in-order writers of the list files.
 struct FrameResult {
   std::vector<core::Detection> truth;
   std::vector<core::Detection> detections;
-};
-
-// Removes the partial output folder unless the job finished.
-class PartialFolder {
- public:
-  explicit PartialFolder(fs::path path) : path_(std::move(path)) {}
-  ~PartialFolder() {
-    std::error_code ignored;
-    if (!path_.empty()) fs::remove_all(path_, ignored);
-  }
-  PartialFolder(const PartialFolder&) = delete;
-  PartialFolder& operator=(const PartialFolder&) = delete;
-  const fs::path& path() const { return path_; }
-  void Release() { path_.clear(); }
-
- private:
-  fs::path path_;
 };
 
 // PNG settings: level 1 and Huffman coding only for the noisy colour and depth images (string matching finds
@@ -71,16 +51,6 @@ const std::vector<int> kMaskPng = {cv::IMWRITE_PNG_COMPRESSION, 1, cv::IMWRITE_P
 void WritePng(const fs::path& path, const cv::Mat& image, const std::vector<int>& params) {
   if (!cv::imwrite(path.string(), image, params)) {
     throw core::InputError::InFile(path, "cannot write image");
-  }
-}
-
-void CheckOutputFolder(const SynthOptions& options) {
-  if (!fs::exists(options.out)) return;
-  if (!fs::is_directory(options.out))
-    throw core::InputError::ForParameter("--out", options.out.string() + " is a file");
-  if (!fs::is_empty(options.out) && !options.force) {
-    throw core::InputError::ForParameter("--out",
-                                         options.out.string() + " exists and is not empty (use --force to replace it)");
   }
 }
 
@@ -123,8 +93,8 @@ void WriteLists(const fs::path& folder, const Scenario& scenario, const std::vec
       fmt::format("# depth maps\n# hoidslam synth scenario '{}'\n# timestamp filename\n", scenario.name);
   std::string associations;
   for (const CameraFrame& frame : frames) {
-    const std::string t = Stamp(frame.timestamp);
-    const std::string d = Stamp(frame.depth_timestamp);
+    const std::string t = StampText(frame.timestamp);
+    const std::string d = StampText(frame.depth_timestamp);
     rgb += fmt::format("{} rgb/{}.png\n", t, t);
     depth += fmt::format("{} depth/{}.png\n", d, d);
     associations += fmt::format("{} rgb/{}.png {} depth/{}.png\n", t, t, d, d);
@@ -142,14 +112,6 @@ void WriteDetections(const fs::path& file, const std::string& sequence, const st
     writer.Write({frames[i].timestamp, truth ? results[i].truth : results[i].detections});
   }
   writer.Commit();
-}
-
-// Moves the finished folder into place, replacing an existing one only after the new one is complete.
-void Publish(const fs::path& partial, const fs::path& out) {
-  std::error_code error;
-  if (fs::exists(out)) fs::remove_all(out, error);
-  if (!error) fs::rename(partial, out, error);
-  if (error) throw core::InputError::InFile(out, "cannot move the finished sequence into place: " + error.message());
 }
 
 }  // namespace
@@ -239,7 +201,8 @@ SynthResult WriteSequence(const Scenario& scenario, const SynthOptions& options)
   const core::Stopwatch stopwatch;
   options.Check();
   scenario.detector_noise.Check();
-  CheckOutputFolder(options);
+  // Checked and created before the expensive work; removed again by whatever fails below.
+  io::AtomicFolder output(options.out, options.force, "--out", "use --force to replace it");
   const CameraPath path = ScenarioCameraPath(scenario, options.tum_dir);
   TextureOptions texture_options = scenario.textures;
   texture_options.photo_folder = options.textures_dir;
@@ -248,16 +211,11 @@ SynthResult WriteSequence(const Scenario& scenario, const SynthOptions& options)
   const Renderer renderer(core::CameraIntrinsics{}, textures);
   const core::CameraIntrinsics& camera = renderer.intrinsics();
 
-  fs::path out = options.out;
-  if (!out.has_filename()) out = out.parent_path();  // "dir/" names "dir"
-  const fs::path partial_path = out.parent_path() / fmt::format("{}.partial-{}", out.filename().string(), ::getpid());
   std::error_code error;
-  fs::remove_all(partial_path, error);
   for (const char* sub : {"rgb", "depth", "mask"}) {
-    fs::create_directories(partial_path / sub, error);
-    if (error) throw core::InputError::InFile(partial_path, "cannot create the output folder: " + error.message());
+    if (!error) fs::create_directories(output.temporary() / sub, error);
   }
-  PartialFolder partial(partial_path);
+  if (error) throw core::InputError::InFile(output.temporary(), "cannot create the output folder: " + error.message());
 
   std::vector<CameraFrame> frames;
   for (std::size_t i = 0; i < path.size(); i += static_cast<std::size_t>(options.frame_step)) {
@@ -289,13 +247,13 @@ SynthResult WriteSequence(const Scenario& scenario, const SynthOptions& options)
             ApplyDetectorNoise(result.truth, scenario.detector_noise,
                                FrameSeed(scenario.seed ^ Mix64(scenario.detector_noise.seed), i, kDetectorNoise),
                                camera.width, camera.height);
-        const std::string t = Stamp(frame.timestamp);
-        WritePng(partial.path() / "rgb" / (t + ".png"),
+        const std::string t = StampText(frame.timestamp);
+        WritePng(output.temporary() / "rgb" / (t + ".png"),
                  ApplyRgbNoise(rendered.bgr, scenario.sensor_noise, FrameSeed(scenario.seed, i, kRgbNoise)), kNoisyPng);
-        WritePng(partial.path() / "depth" / (Stamp(frame.depth_timestamp) + ".png"),
+        WritePng(output.temporary() / "depth" / (StampText(frame.depth_timestamp) + ".png"),
                  ApplyDepthNoise(rendered.depth, scenario.sensor_noise, FrameSeed(scenario.seed, i, kDepthNoise)),
                  kNoisyPng);
-        WritePng(partial.path() / "mask" / (t + ".png"), MovingMask(rendered.instance, snapshot), kMaskPng);
+        WritePng(output.temporary() / "mask" / (t + ".png"), MovingMask(rendered.instance, snapshot), kMaskPng);
         if (progress) {
           const std::lock_guard lock(progress_mutex);
           progress->Update(++done);
@@ -306,18 +264,26 @@ SynthResult WriteSequence(const Scenario& scenario, const SynthOptions& options)
       failed = true;
     }
   };
-  std::vector<std::thread> workers;
-  for (int w = 1; w < options.threads; ++w) workers.emplace_back(work, static_cast<std::size_t>(w));
-  work(0);
-  for (std::thread& worker : workers) worker.join();
+  {
+    // jthreads join when they go out of scope, also when starting a later one throws: `failed` then stops the
+    // started ones at their next frame, and nothing is left running on the locals they use.
+    std::vector<std::jthread> workers;
+    try {
+      for (int w = 1; w < options.threads; ++w) workers.emplace_back(work, static_cast<std::size_t>(w));
+    } catch (...) {
+      failed = true;
+      throw;
+    }
+    work(0);
+  }
   for (const std::exception_ptr& e : errors) {
     if (e) std::rethrow_exception(e);
   }
 
-  const fs::path& folder = partial.path();
+  const fs::path& folder = output.temporary();
   WriteLists(folder, scenario, frames);
   io::WriteTumTrajectory(folder / "groundtruth.txt", trajectory);
-  const std::string sequence = out.filename().string();
+  const std::string sequence = output.path().filename().string();
   WriteDetections(folder / "detections.jsonl", sequence, scenario.detector_noise.Describe(), frames, results, false);
   if (scenario.detector_noise.Any()) {
     WriteDetections(folder / "detections_truth.jsonl", sequence, DetectorNoiseOptions{}.Describe(), frames, results,
@@ -328,8 +294,7 @@ SynthResult WriteSequence(const Scenario& scenario, const SynthOptions& options)
   WriteText(folder / "events.jsonl", events);
   WriteText(folder / "scenario.json", RenderedScenario(scenario).dump(2) + "\n");
 
-  Publish(folder, out);
-  partial.Release();
+  output.Commit();
   return {frames.size(), stopwatch.ElapsedSeconds()};
 }
 

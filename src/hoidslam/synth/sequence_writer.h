@@ -13,7 +13,9 @@
 //   <out>/scenario.json        the scenario as rendered (command-line overrides applied)
 //
 // The folder appears complete or not at all: everything goes to a "<out>.partial-<pid>" sibling that is
-// renamed at the end. The same scenario and seed give byte-identical files whatever the thread count.
+// renamed at the end. A sequence replaced with `force` is renamed to "<out>.old-<pid>" first and removed once
+// the new one is in place (moved back when it cannot be), so `out` always holds one complete sequence. The same
+// scenario and seed give byte-identical files whatever the thread count.
 
 #include <cstddef>
 #include <filesystem>
@@ -29,7 +31,8 @@
 namespace hoidslam::synth {
 
 struct SynthOptions {
-  std::filesystem::path out;           // the sequence folder to create
+  std::filesystem::path out;           // the sequence folder to create; "seq/" and "seq/." name "seq"; neither
+                                       // the working directory nor a folder holding it (replacing removes it)
   bool force = false;                  // replace `out` when it exists and is not empty
   int threads = 2;                     // frames rendered in parallel, in [1, 64]
   std::filesystem::path tum_dir;       // holds groundtruth/<name>.txt and associations/<name>.txt (TUM cameras)

@@ -3,13 +3,19 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <map>
+#include <memory>
+#include <stdexcept>
 #include <opencv2/imgcodecs.hpp>
 #include <string>
+#include <vector>
 
 #include "hoidslam/core/error.h"
 #include "hoidslam/io/detections_file.h"
@@ -119,8 +125,9 @@ TEST(SequenceWriter, OneSeedGivesByteIdenticalFilesWhateverTheThreads) {
   Scenario scenario = fixtures::SmallScenario(fixtures::kWalkThenStop, 10, "xyz");
   scenario.detector_noise.box_jitter = 0.05;
   scenario.detector_noise.false_positive_rate = 0.5;
-  // Same folder name (the detections header names it), different parents.
-  WriteSequence(scenario, Options(temp / "a" / "seq", 2));
+  // Same folder name (the detections header names it), different parents. Five threads share 10 frames
+  // unevenly, so frames finish out of order.
+  WriteSequence(scenario, Options(temp / "a" / "seq", 5));
   WriteSequence(scenario, Options(temp / "b" / "seq", 1));
   const auto a = ReadAllFiles(temp / "a" / "seq");
   const auto b = ReadAllFiles(temp / "b" / "seq");
@@ -265,6 +272,114 @@ TEST(SequenceWriter, PosesReprojectStaticPointsAndDepthAgreesWithTheGeometry) {
     ASSERT_GT(compared, 5000);
     EXPECT_GT(static_cast<double>(within) / compared, 0.99) << "frame " << i;
   }
+}
+
+// The names in `folder`, sorted.
+std::vector<std::string> Listing(const fs::path& folder) {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(folder)) names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// Asks to stop once `frames` frames have started (polled before each frame, from every thread).
+std::function<bool()> StopAfter(int frames) {
+  auto started = std::make_shared<std::atomic<int>>(0);
+  return [started, frames] { return started->fetch_add(1) >= frames; };
+}
+
+// Changes the working directory for the life of the object.
+class WorkingDirectory {
+ public:
+  explicit WorkingDirectory(const fs::path& folder) : saved_(fs::current_path()) { fs::current_path(folder); }
+  ~WorkingDirectory() { fs::current_path(saved_); }
+  WorkingDirectory(const WorkingDirectory&) = delete;
+  WorkingDirectory& operator=(const WorkingDirectory&) = delete;
+
+ private:
+  fs::path saved_;
+};
+
+TEST(SequenceWriter, AStoppedRunThrowsInterruptedAndLeavesTheParentAsItWas) {
+  testing::TempDir temp;
+  std::ofstream(temp / "other.txt") << "mine";
+  SynthOptions options = Options(temp / "seq");
+  options.stop_requested = StopAfter(4);
+  EXPECT_THROW(WriteSequence(fixtures::SmallScenario("[]", 12), options), core::Interrupted);
+  EXPECT_EQ(Listing(temp.path()), std::vector<std::string>{"other.txt"});
+}
+
+TEST(SequenceWriter, AFailureWhileRenderingLeavesNothing) {
+  testing::TempDir temp;
+  // A failure in the middle of the frames, from a worker thread: the stop callback is the one thing a caller
+  // runs there.
+  SynthOptions options = Options(temp / "seq");
+  const std::function<bool()> stop_after = StopAfter(5);
+  options.stop_requested = [stop_after]() -> bool {
+    if (stop_after()) throw std::runtime_error("no space left on device (injected)");
+    return false;
+  };
+  try {
+    WriteSequence(fixtures::SmallScenario("[]", 12), options);
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_THAT(e.what(), HasSubstr("(injected)"));
+  }
+  EXPECT_TRUE(fs::is_empty(temp.path()));
+}
+
+TEST(SequenceWriter, OutIsTheFolderNamedHoweverItIsSpelt) {
+  testing::TempDir temp;
+  fs::create_directories(temp / "work");
+  WriteSequence(fixtures::SmallScenario("[]", 2), Options(temp / "work" / "seq/"));
+  EXPECT_EQ(Listing(temp / "work"), std::vector<std::string>{"seq"});
+  EXPECT_EQ(io::DetectionsFile::Read(temp / "work" / "seq" / "detections.jsonl").header()->sequence, "seq");
+  EXPECT_EQ(io::RgbdSequence::OpenTum(temp / "work" / "seq").size(), 2U);
+  const auto written = ReadAllFiles(temp / "work" / "seq");
+  // Run from inside the scratch folder, so that a failure of the check could only remove the scratch folder.
+  const WorkingDirectory inside(temp / "work");
+  for (const std::string out : {".", "./", "seq/..", ".."}) {
+    SCOPED_TRACE(out);
+    SynthOptions options = Options(out);
+    options.force = true;
+    try {
+      WriteSequence(fixtures::SmallScenario("[]", 2), options);
+      FAIL() << "no error";
+    } catch (const core::InputError& e) {
+      EXPECT_THAT(e.what(), HasSubstr("parameter --out"));
+      EXPECT_THAT(e.what(), HasSubstr("working directory"));
+    }
+    EXPECT_EQ(Listing(temp / "work"), std::vector<std::string>{"seq"});
+    EXPECT_TRUE(ReadAllFiles(temp / "work" / "seq") == written);
+  }
+  // Not --force: the root is never replaced whatever the check says, but the check comes first.
+  try {
+    WriteSequence(fixtures::SmallScenario("[]", 2), Options("/"));
+    FAIL() << "no error";
+  } catch (const core::InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("working directory"));
+  }
+}
+
+TEST(SequenceWriter, ForceReplacesTheOldSequenceOnlyWithACompleteOne) {
+  testing::TempDir temp;
+  Scenario scenario = fixtures::SmallScenario("[]", 6);
+  WriteSequence(scenario, Options(temp / "seq"));
+  const auto old_files = ReadAllFiles(temp / "seq");
+  scenario.seed += 1;
+  SynthOptions forced = Options(temp / "seq");
+  forced.force = true;
+  forced.stop_requested = StopAfter(3);
+  EXPECT_THROW(WriteSequence(scenario, forced), core::Interrupted);
+  EXPECT_EQ(Listing(temp.path()), std::vector<std::string>{"seq"});
+  EXPECT_TRUE(ReadAllFiles(temp / "seq") == old_files);
+
+  forced.stop_requested = nullptr;
+  WriteSequence(scenario, forced);
+  EXPECT_EQ(Listing(temp.path()), std::vector<std::string>{"seq"});  // no partial or old folder left
+  const auto new_files = ReadAllFiles(temp / "seq");
+  ASSERT_EQ(new_files.size(), old_files.size());
+  EXPECT_NE(new_files.at("scenario.json"), old_files.at("scenario.json"));  // the new seed
 }
 
 TEST(SequenceWriter, RefusesToOverwriteUnlessForced) {

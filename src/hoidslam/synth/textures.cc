@@ -1,7 +1,6 @@
 #include "hoidslam/synth/textures.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <functional>
 #include <string>
@@ -11,16 +10,37 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "hoidslam/core/enum_names.h"
 #include "hoidslam/core/error.h"
+#include "hoidslam/io/files.h"
 #include "hoidslam/synth/random.h"
 
 namespace hoidslam::synth {
 namespace {
 
-constexpr std::array<std::string_view, kTextureRoleCount> kRoleNames = {
-    "wall",  "floor",      "ceiling", "carpet", "desk",   "monitor_screen", "monitor_body",
-    "keyboard", "mouse",   "laptop",  "book_cover", "cup", "bottle",        "chair",
-    "skin",  "hair",       "shirt",   "trousers", "shoe", "poster",         "generic"};
+constexpr core::EnumNames<TextureRole, kTextureRoleCount> kRoleNames = {{
+    {TextureRole::kWall, "wall"},
+    {TextureRole::kFloor, "floor"},
+    {TextureRole::kCeiling, "ceiling"},
+    {TextureRole::kCarpet, "carpet"},
+    {TextureRole::kDesk, "desk"},
+    {TextureRole::kMonitorScreen, "monitor_screen"},
+    {TextureRole::kMonitorBody, "monitor_body"},
+    {TextureRole::kKeyboard, "keyboard"},
+    {TextureRole::kMouse, "mouse"},
+    {TextureRole::kLaptop, "laptop"},
+    {TextureRole::kBookCover, "book_cover"},
+    {TextureRole::kCup, "cup"},
+    {TextureRole::kBottle, "bottle"},
+    {TextureRole::kChair, "chair"},
+    {TextureRole::kSkin, "skin"},
+    {TextureRole::kHair, "hair"},
+    {TextureRole::kShirt, "shirt"},
+    {TextureRole::kTrousers, "trousers"},
+    {TextureRole::kShoe, "shoe"},
+    {TextureRole::kPoster, "poster"},
+    {TextureRole::kGeneric, "generic"},
+}};
 
 bool HasVariants(TextureRole role) {
   switch (role) {
@@ -486,25 +506,14 @@ cv::Mat Procedural(TextureRole role, int variant, int s, Random& rng) {
 // ---- Photos ----
 
 std::vector<std::filesystem::path> ListPhotos(const std::filesystem::path& folder) {
-  if (!std::filesystem::is_directory(folder)) throw core::InputError::InFile(folder, "texture folder not found");
-  std::vector<std::filesystem::path> photos;
-  for (const auto& entry : std::filesystem::directory_iterator(folder)) {
-    std::string extension = entry.path().extension().string();
-    std::transform(extension.begin(), extension.end(), extension.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    if (entry.is_regular_file() && (extension == ".jpg" || extension == ".jpeg" || extension == ".png")) {
-      photos.push_back(entry.path());
-    }
-  }
+  std::vector<std::filesystem::path> photos = io::ImagesIn(folder);
   if (photos.empty()) throw core::InputError::InFile(folder, "texture folder holds no .jpg, .jpeg or .png image");
-  std::sort(photos.begin(), photos.end());
   return photos;
 }
 
 // The largest centred square of the photo, resized to the texture size.
 cv::Mat LoadPhoto(const std::filesystem::path& path, int size) {
-  const cv::Mat photo = cv::imread(path.string(), cv::IMREAD_COLOR);
-  if (photo.empty()) throw core::InputError::InFile(path, "cannot read texture image");
+  const cv::Mat photo = io::ReadImage(path, cv::IMREAD_COLOR, "texture");
   const int side = std::min(photo.cols, photo.rows);
   const cv::Mat square = photo(cv::Rect((photo.cols - side) / 2, (photo.rows - side) / 2, side, side));
   cv::Mat texture;
@@ -524,15 +533,10 @@ std::vector<cv::Mat> MipmapChain(const cv::Mat& image) {
 
 }  // namespace
 
-std::string_view ToString(TextureRole role) { return kRoleNames.at(static_cast<std::size_t>(role)); }
+std::string_view ToString(TextureRole role) { return core::EnumName(kRoleNames, role); }
 
 TextureRole ParseTextureRole(std::string_view name, const std::string& parameter) {
-  for (int i = 0; i < kTextureRoleCount; ++i) {
-    if (kRoleNames[static_cast<std::size_t>(i)] == name) return static_cast<TextureRole>(i);
-  }
-  std::string known;
-  for (const std::string_view role_name : kRoleNames) known += fmt::format("{}{}", known.empty() ? "" : ", ", role_name);
-  throw core::InputError::ForParameter(parameter, fmt::format("unknown texture '{}' (expected one of {})", name, known));
+  return core::ParseEnumName(kRoleNames, name, parameter, "texture");
 }
 
 void TextureOptions::Check() const {

@@ -9,6 +9,7 @@
 #include <numbers>
 
 #include "hoidslam/core/error.h"
+#include "hoidslam/synth/camera_path.h"
 
 namespace hoidslam::synth {
 namespace {
@@ -43,13 +44,6 @@ core::Pose YawPose(const Vector3d& t, double yaw) {
 }
 
 double YawOf(const core::Pose& pose) { return std::atan2(pose.linear()(1, 0), pose.linear()(0, 0)); }
-
-core::Pose LerpPose(const core::Pose& a, const core::Pose& b, double s) {
-  core::Pose pose = core::Pose::Identity();
-  pose.translate(a.translation() + (b.translation() - a.translation()) * s);
-  pose.rotate(Eigen::Quaterniond(a.linear()).slerp(s, Eigen::Quaterniond(b.linear())));
-  return pose;
-}
 
 Vector2d Direction(double yaw) { return {std::cos(yaw), std::sin(yaw)}; }
 double Heading(const Vector2d& d) { return std::atan2(d.y(), d.x()); }
@@ -161,11 +155,16 @@ class World::Planner {
     Move(p, std::max(0.3, delta / kTurnRate), b, true, true);
   }
 
-  // Walks to `target` round desks and shelves.
-  void WalkTo(std::size_t p, const Vector2d& target, double speed) {
-    for (const Vector2d& waypoint : scenario_.office.Route(cursors_[p].pose.position, target, kWalkClearance)) {
-      WalkStraight(p, waypoint, speed);
+  // Walks to `target` round desks and shelves, for `action`; an error naming it when there is no way round.
+  void WalkTo(std::size_t p, const Vector2d& target, double speed, const Action& action) {
+    const Vector2d& from = cursors_[p].pose.position;
+    const auto route = scenario_.office.Route(from, target, kWalkClearance);
+    if (!route) {
+      Fail(action, fmt::format("{} finds no way from ({:.2f}, {:.2f}) to ({:.2f}, {:.2f}) round the desks and "
+                               "shelves",
+                               world_.people_[p].spec.name, from.x(), from.y(), target.x(), target.y()));
     }
+    for (const Vector2d& waypoint : *route) WalkStraight(p, waypoint, speed);
   }
 
   void WalkStraight(std::size_t p, const Vector2d& target, double speed) {
@@ -288,7 +287,8 @@ class World::Planner {
     const core::Pose T_w_rest = FreeObjectPose(p, index, action);
     const Vector3d ext = ObjectHalfExtents(object.info.kind);
     const Vector2d xy = T_w_rest.translation().head<2>();
-    WalkTo(p, Approach(xy, cursors_[p].pose.position, std::max(ext.x(), ext.y()) + 0.3, {0.0, -1.0}), Speed(p));
+    WalkTo(p, Approach(xy, cursors_[p].pose.position, std::max(ext.x(), ext.y()) + 0.3, {0.0, -1.0}), Speed(p),
+           action);
     TurnTo(p, Heading(xy - cursors_[p].pose.position));
 
     Cursor& c = cursors_[p];
@@ -345,7 +345,8 @@ class World::Planner {
     const ObjectTrack& object = world_.objects_[static_cast<std::size_t>(cursors_[p].held)];
     const Vector3d ext = ObjectHalfExtents(object.info.kind);
     const Vector2d& to = action.to;
-    WalkTo(p, Approach(to, cursors_[p].pose.position, std::max(ext.x(), ext.y()) + 0.35, {0.0, -1.0}), Speed(p));
+    WalkTo(p, Approach(to, cursors_[p].pose.position, std::max(ext.x(), ext.y()) + 0.35, {0.0, -1.0}), Speed(p),
+           action);
     TurnTo(p, Heading(to - cursors_[p].pose.position));
 
     Cursor& c = cursors_[p];
@@ -368,7 +369,7 @@ class World::Planner {
     const double yaw = YawOf(T_w_chair);
     const Vector2d seat = T_w_chair.translation().head<2>();
     const Vector2d stand = seat + Direction(yaw) * kSitApproach;
-    WalkTo(p, stand, Speed(p));
+    WalkTo(p, stand, Speed(p), action);
     TurnTo(p, yaw);
     BodyPose sit = cursors_[p].pose;
     sit.position = seat + Direction(yaw) * 0.04;
@@ -415,7 +416,7 @@ class World::Planner {
     const double yaw = YawOf(T_w_chair);
     const Vector2d from = T_w_chair.translation().head<2>();
     constexpr double kBehind = 0.62;  // body origin to chair centre while pushing
-    WalkTo(p, FreeSpot(from - Direction(yaw) * kBehind, -Direction(yaw)), Speed(p));
+    WalkTo(p, FreeSpot(from - Direction(yaw) * kBehind, -Direction(yaw)), Speed(p), action);
     TurnTo(p, yaw);
 
     Cursor& c = cursors_[p];
@@ -454,7 +455,8 @@ class World::Planner {
     const core::Pose T_w_object = FreeObjectPose(p, index, action);
     const Vector2d xy = T_w_object.translation().head<2>();
     const Vector2d front = Direction(YawOf(T_w_object));
-    WalkTo(p, action.position ? *action.position : FreeSpot(xy + front * action.distance, front), Speed(p));
+    WalkTo(p, action.position ? *action.position : FreeSpot(xy + front * action.distance, front), Speed(p),
+           action);
     TurnTo(p, Heading(xy - cursors_[p].pose.position));
     Event(p, "stand_at", action.object);
     Idle(p, action.duration);
@@ -466,7 +468,7 @@ class World::Planner {
     if (action.at && *action.at > c.time) Idle(p, *action.at - c.time);
     switch (action.type) {
       case ActionType::kWalkTo:
-        WalkTo(p, action.to, Speed(p));
+        WalkTo(p, action.to, Speed(p), action);
         break;
       case ActionType::kStop:
         Idle(p, action.duration);
@@ -476,7 +478,7 @@ class World::Planner {
         break;
       case ActionType::kCarryTo:
         if (c.held < 0) Fail(action, fmt::format("{} carries nothing", world_.people_[p].spec.name));
-        WalkTo(p, action.to, Speed(p));
+        WalkTo(p, action.to, Speed(p), action);
         break;
       case ActionType::kPutDown:
         PutDown(p, action);
@@ -496,7 +498,7 @@ class World::Planner {
         break;
       case ActionType::kLeave:
         RequireEmptyHands(p, action);
-        WalkTo(p, action.to, Speed(p));
+        WalkTo(p, action.to, Speed(p), action);
         Event(p, "leave", "", std::nullopt, Vector3d(action.to.x(), action.to.y(), 0.0));
         cursors_[p].gone = true;
         break;

@@ -200,6 +200,10 @@ TEST(World, ImpossibleActionsNameTheirKey) {
               HasSubstr("people[1].actions[0]: 'cup_1' is held by a"));
   EXPECT_THAT(PlanError(R"([{"name": "a", "start": [2, 2.5], "actions": [{"action": "carry_to", "to": [3, 2]}]}])"),
               HasSubstr("people[0].actions[0]: a carries nothing"));
+  // Not straight through the desk: there is no way into the middle of it.
+  EXPECT_THAT(PlanError(R"([{"name": "a", "start": [2, 2.5], "actions": [
+                  {"action": "walk_to", "to": [4, 2.5]}, {"action": "walk_to", "to": [3.2, 3.9]}]}])"),
+              HasSubstr("small.json: people[0].actions[1]: a finds no way from (4.00, 2.50) to (3.20, 3.90)"));
 }
 
 TEST(World, ShippedScenariosPlanAndLeaveUntouchedObjectsAlone) {
