@@ -5,8 +5,6 @@
 #include <sys/wait.h>
 
 #include <algorithm>
-#include <fstream>
-#include <iterator>
 #include <string>
 #include <vector>
 
@@ -15,11 +13,15 @@
 
 #include "support/shared_data.h"
 #include "support/temp_dir.h"
+#include "support/text_file.h"
 
 extern char** environ;
 
 namespace hoidslam::apps {
 namespace {
+
+using ::hoidslam::testing::WriteText;
+using ::hoidslam::testing::ReadText;
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
@@ -31,10 +33,6 @@ struct RunResult {
   std::string err;  // stderr
 };
 
-std::string ReadAll(const fs::path& path) {
-  std::ifstream in(path);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
 
 // Runs the built hoidslam with `args`, stdout and stderr captured in files of `scratch`.
 RunResult RunHoidslam(const testing::TempDir& scratch, const std::vector<std::string>& args) {
@@ -58,12 +56,11 @@ RunResult RunHoidslam(const testing::TempDir& scratch, const std::vector<std::st
   int status = 0;
   waitpid(pid, &status, 0);
   result.exit_status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  result.out = ReadAll(out);
-  result.err = ReadAll(err);
+  result.out = ReadText(out);
+  result.err = ReadText(err);
   return result;
 }
 
-void WriteText(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
 
 // The one line a user sees for bad input: "error: ..." and nothing else on stderr.
 void ExpectOneErrorLine(const RunResult& result, const std::string& names) {
@@ -94,7 +91,7 @@ TEST(Cli, EvalOfATrajectoryAgainstItselfWritesJson) {
                 (scratch / "result.json").string()});
   EXPECT_EQ(result.exit_status, 0) << result.err;
   EXPECT_THAT(result.out, HasSubstr("ATE (m)"));
-  EXPECT_THAT(ReadAll(scratch / "result.json"), HasSubstr("\"rmse\""));
+  EXPECT_THAT(ReadText(scratch / "result.json"), HasSubstr("\"rmse\""));
 }
 
 TEST(Cli, EvalNamesTheBadLineAndWritesNoJson) {
@@ -164,7 +161,7 @@ TEST(Cli, DetectWritesTheDetectionsFileAndAnnotatedFramesOfARealSequence) {
   ASSERT_EQ(result.exit_status, 0) << result.err;
   EXPECT_THAT(result.out, HasSubstr("person"));
   EXPECT_THAT(result.out, HasSubstr("dynamic: person"));
-  EXPECT_THAT(ReadAll(scratch / "detections.jsonl"), HasSubstr("\"label\":\"person\""));
+  EXPECT_THAT(ReadText(scratch / "detections.jsonl"), HasSubstr("\"label\":\"person\""));
   EXPECT_TRUE(fs::exists(scratch / "annotated" / "1341846313.592026.png"));
   EXPECT_TRUE(fs::exists(scratch / "annotated" / "1341846316.570121.png"));
 
@@ -188,7 +185,7 @@ TEST(Cli, DetectReadsPlainImageFolders) {
                 "--fps", "10", "--model", model.string(), "--out", (scratch / "detections.jsonl").string()});
   ASSERT_EQ(result.exit_status, 0) << result.err;
   // Timestamps come from the frame rate: frame i at i / fps.
-  const std::string detections = ReadAll(scratch / "detections.jsonl");
+  const std::string detections = ReadText(scratch / "detections.jsonl");
   EXPECT_THAT(detections, HasSubstr("{\"timestamp\":0.000000,"));
   EXPECT_THAT(detections, HasSubstr("{\"timestamp\":0.100000,"));
 

@@ -1,6 +1,5 @@
 #include "hoidslam/detect/class_names.h"
 
-#include <fstream>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -8,13 +7,15 @@
 #include "hoidslam/core/error.h"
 #include "support/shared_data.h"
 #include "support/temp_dir.h"
+#include "support/text_file.h"
 
 namespace hoidslam::detect {
 namespace {
 
+using ::hoidslam::testing::WriteText;
+
 using ::testing::HasSubstr;
 
-void WriteText(const std::filesystem::path& path, const std::string& text) { std::ofstream(path) << text; }
 
 TEST(CocoClassNames, HasTheEightyClassesTheHoidFilterNames) {
   const auto& names = CocoClassNames();

@@ -10,14 +10,13 @@
 
 #include "hoidslam/core/error.h"
 #include "support/temp_dir.h"
+#include "support/text_file.h"
 
 namespace hoidslam::io {
 namespace {
 
-std::string ReadAll(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using ::hoidslam::testing::ReadText;
+
 
 std::size_t CountEntries(const std::filesystem::path& folder) {
   return static_cast<std::size_t>(std::distance(std::filesystem::directory_iterator(folder), {}));
@@ -30,7 +29,7 @@ TEST(AtomicFile, AppearsOnlyOnCommit) {
   file.stream() << "complete\n";
   EXPECT_FALSE(std::filesystem::exists(path));
   file.Commit();
-  EXPECT_EQ(ReadAll(path), "complete\n");
+  EXPECT_EQ(ReadText(path), "complete\n");
   EXPECT_EQ(CountEntries(dir.path()), 1U);
 }
 
@@ -44,7 +43,7 @@ TEST(AtomicFile, AbandonedWriteLeavesOldFileAndNoDebris) {
     throw std::runtime_error("interrupted");
   } catch (const std::runtime_error&) {
   }
-  EXPECT_EQ(ReadAll(path), "old\n");
+  EXPECT_EQ(ReadText(path), "old\n");
   EXPECT_EQ(CountEntries(dir.path()), 1U);
 }
 
@@ -85,11 +84,11 @@ TEST(AtomicFolder, AppearsOnlyOnCommitAndReplacesTheOldOneThen) {
   {
     AtomicFolder folder(out, true, "--out", "use --force");
     std::ofstream(folder.temporary() / "new.txt") << "new\n";
-    EXPECT_EQ(ReadAll(out / "old.txt"), "old\n");  // untouched until the commit
+    EXPECT_EQ(ReadText(out / "old.txt"), "old\n");  // untouched until the commit
     folder.Commit();
   }
   EXPECT_FALSE(std::filesystem::exists(out / "old.txt"));
-  EXPECT_EQ(ReadAll(out / "new.txt"), "new\n");
+  EXPECT_EQ(ReadText(out / "new.txt"), "new\n");
   EXPECT_EQ(CountEntries(dir.path()), 1U);  // no temporary or old folder left
 }
 
@@ -102,7 +101,7 @@ TEST(AtomicFolder, AbandonedFolderLeavesNothingAndKeepsTheOldOne) {
     EXPECT_EQ(folder.path().filename(), "seq");
     std::ofstream(folder.temporary() / "half.txt") << "half";
   }
-  EXPECT_EQ(ReadAll(dir / "seq" / "old.txt"), "old\n");
+  EXPECT_EQ(ReadText(dir / "seq" / "old.txt"), "old\n");
   EXPECT_EQ(CountEntries(dir.path()), 1U);
 }
 

@@ -1,17 +1,18 @@
 #include "hoidslam/io/detections_file.h"
 
-#include <fstream>
 #include <string>
 
 #include <gtest/gtest.h>
 
 #include "hoidslam/core/error.h"
 #include "support/temp_dir.h"
+#include "support/text_file.h"
 
 namespace hoidslam::io {
 namespace {
 
-void WriteText(const std::filesystem::path& path, const std::string& text) { std::ofstream(path) << text; }
+using ::hoidslam::testing::WriteText;
+
 
 std::string ErrorOf(const std::filesystem::path& path) {
   try {

@@ -15,9 +15,12 @@
 #include "hoidslam/core/error.h"
 #include "support/shared_data.h"
 #include "support/temp_dir.h"
+#include "support/text_file.h"
 
 namespace hoidslam::io {
 namespace {
+
+using ::hoidslam::testing::WriteText;
 
 namespace fs = std::filesystem;
 using core::InputError;
@@ -29,7 +32,6 @@ using ::testing::ThrowsMessage;
 constexpr int kWidth = 8;
 constexpr int kHeight = 6;
 
-void WriteText(const fs::path& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
 
 void WriteColour(const fs::path& path) {
   ASSERT_TRUE(cv::imwrite(path.string(), cv::Mat(kHeight, kWidth, CV_8UC3, cv::Scalar(10, 20, 30))));

@@ -1,6 +1,5 @@
 #include "hoidslam/io/trajectory_file.h"
 
-#include <fstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -8,11 +7,13 @@
 #include "hoidslam/core/error.h"
 #include "support/shared_data.h"
 #include "support/temp_dir.h"
+#include "support/text_file.h"
 
 namespace hoidslam::io {
 namespace {
 
-void WriteText(const std::filesystem::path& path, const std::string& text) { std::ofstream(path) << text; }
+using ::hoidslam::testing::WriteText;
+
 
 std::string ErrorOf(const std::filesystem::path& path) {
   try {

@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <functional>
-#include <fstream>
 #include <numbers>
 #include <string>
 
@@ -13,9 +12,12 @@
 #include "hoidslam/core/error.h"
 #include "support/shared_data.h"
 #include "support/temp_dir.h"
+#include "support/text_file.h"
 
 namespace hoidslam::synth {
 namespace {
+
+using ::hoidslam::testing::WriteText;
 
 core::Pose MakePose(const Eigen::Vector3d& t, double angle, const Eigen::Vector3d& axis) {
   core::Pose pose = core::Pose::Identity();
@@ -38,7 +40,6 @@ std::string Message(const std::function<void()>& action) {
   return "";
 }
 
-void WriteText(const std::filesystem::path& path, const std::string& text) { std::ofstream(path) << text; }
 
 TEST(CameraPath, InterpolationIsExactOnKnotsAndHalfwayBetween) {
   const core::Trajectory trajectory = {{10.0, MakePose({0, 0, 0}, 0.0, {0, 0, 1})},
