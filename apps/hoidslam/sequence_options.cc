@@ -38,11 +38,9 @@ io::RgbdSequence OpenSequence(const SequenceArgs& args, std::optional<double> se
   if (args.depth_factor) options.depth_factor = *args.depth_factor;
   if (settings_depth_factor) options.depth_factor = *settings_depth_factor;
   options.associations = args.associations;
-  io::RgbdSequence sequence = folders
-                                  ? io::RgbdSequence::OpenImageFolders(args.rgb_folder, args.depth_folder, args.fps, options)
-                                  : io::RgbdSequence::OpenTum(args.dataset, options);
-  if (sequence.size() == 0) throw core::InputError::InFile(SequenceFolder(args), "the sequence has no frames");
-  return sequence;
+  // Both readers refuse a sequence without frames, naming the list file or the folders.
+  return folders ? io::RgbdSequence::OpenImageFolders(args.rgb_folder, args.depth_folder, args.fps, options)
+                 : io::RgbdSequence::OpenTum(args.dataset, options);
 }
 
 std::filesystem::path SequenceFolder(const SequenceArgs& args) {
