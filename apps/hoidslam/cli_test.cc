@@ -10,6 +10,7 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "support/shared_data.h"
 #include "support/temp_dir.h"
@@ -73,7 +74,7 @@ void ExpectOneErrorLine(const RunResult& result, const std::string& names) {
 TEST(Cli, NoCommandIsAnErrorAndHelpIsNot) {
   const testing::TempDir scratch;
   EXPECT_NE(RunHoidslam(scratch, {}).exit_status, 0);
-  for (const char* command : {"detect", "eval", "synth"}) {
+  for (const char* command : {"detect", "eval", "run", "synth"}) {
     const RunResult help = RunHoidslam(scratch, {command, "--help"});
     EXPECT_EQ(help.exit_status, 0) << command;
     EXPECT_THAT(help.out, HasSubstr("Usage")) << command;
@@ -250,6 +251,105 @@ TEST(Cli, SynthSequenceIsReadByEval) {
                             (sequence / "groundtruth.txt").string()});
   EXPECT_EQ(eval.exit_status, 0) << eval.err;
   EXPECT_THAT(eval.out, HasSubstr("0.000000"));
+}
+
+
+// ---- hoidslam run ----------------------------------------------------------------------------------------------
+
+// Renders `frames` frames of a shipped scenario, every `step`-th frame of its camera path.
+fs::path Render(const testing::TempDir& scratch, const std::string& scenario, int frames, int step) {
+  const fs::path sequence = scratch / scenario;
+  const RunResult synth = RunHoidslam(scratch, {"synth", "--scenario", scenario, "--frames", std::to_string(frames * step),
+                                                "--frame-step", std::to_string(step), "--out", sequence.string()});
+  EXPECT_EQ(synth.exit_status, 0) << synth.err;
+  return sequence;
+}
+
+nlohmann::json Summary(const fs::path& out) { return nlohmann::json::parse(ReadText(out / "summary.json")); }
+
+TEST(CliRun, TracksAControlWithNobodyInTheRoomAccurately) {
+  const testing::TempDir scratch;
+  const fs::path sequence = Render(scratch, "walking_xyz_static", 150, 1);
+  const fs::path out = scratch / "run";
+  const RunResult run = RunHoidslam(scratch, {"run", sequence.string(), "--settings", HOIDSLAM_CONFIG_DIR "/TUM3.yaml",
+                                              "--filter", "none", "--out", out.string()});
+  ASSERT_EQ(run.exit_status, 0) << run.err;
+  EXPECT_THAT(run.out, HasSubstr("ATE (m)"));
+  const nlohmann::json summary = Summary(out);
+  EXPECT_EQ(summary["tracked"], 150);
+  EXPECT_EQ(summary["lost"], 0);
+  EXPECT_LT(summary["evaluation"]["ate"]["error_m"]["rmse"].get<double>(), 0.01);
+  for (const char* file : {"trajectory.txt", "keyframes.txt", "map.ply", "frames.jsonl"}) {
+    EXPECT_TRUE(fs::exists(out / file)) << file;
+  }
+}
+
+TEST(CliRun, DropsPeopleAndWhatTheyCarryAndStaysAccurate) {
+  const testing::TempDir scratch;
+  // Every second frame of walking_xyz: people walk through the view and pick things up from the 25th frame on.
+  const fs::path sequence = Render(scratch, "walking_xyz", 150, 2);
+  for (const char* mode : {"hoid2d", "oracle"}) {
+    const fs::path out = scratch / mode;
+    const RunResult run = RunHoidslam(scratch, {"run", sequence.string(), "--filter", mode, "--out", out.string()});
+    ASSERT_EQ(run.exit_status, 0) << run.err;
+    const nlohmann::json summary = Summary(out);
+    EXPECT_EQ(summary["tracked"], 150) << mode;
+    EXPECT_GT(summary["keypoints_dropped"].get<int>(), 1000) << mode;
+    EXPECT_LT(summary["evaluation"]["ate"]["error_m"]["rmse"].get<double>(), 0.01) << mode;
+  }
+}
+
+TEST(CliRun, DeterministicRunsWriteIdenticalFiles) {
+  const testing::TempDir scratch;
+  const fs::path sequence = Render(scratch, "walking_xyz", 100, 2);
+  for (const char* name : {"a", "b"}) {
+    const RunResult run = RunHoidslam(scratch, {"run", sequence.string(), "--filter", "hoid2d", "--deterministic",
+                                                "--out", (scratch / name).string()});
+    ASSERT_EQ(run.exit_status, 0) << run.err;
+  }
+  for (const char* file : {"trajectory.txt", "keyframes.txt", "map.ply", "frames.jsonl"}) {
+    if (std::string(file) == "frames.jsonl") continue;  // holds the stage timings, which differ
+    EXPECT_EQ(ReadText(scratch / "a" / file), ReadText(scratch / "b" / file)) << file;
+  }
+  EXPECT_FALSE(ReadText(scratch / "a" / "trajectory.txt").empty());
+}
+
+TEST(CliRun, RealTumFramesWithTheOnnxDetector) {
+  const testing::TempDir scratch;
+  HOIDSLAM_SHARED_PATH_OR_SKIP(sequence, "data/tum/fr3_walking_xyz_pair");
+  HOIDSLAM_SHARED_PATH_OR_SKIP(model, "models/yolox_nano.onnx");
+  const fs::path out = scratch / "run";
+  const RunResult run =
+      RunHoidslam(scratch, {"run", sequence.string(), "--settings", HOIDSLAM_CONFIG_DIR "/TUM3.yaml", "--model",
+                            model.string(), "--filter", "hoid3d", "--out", out.string()});
+  ASSERT_EQ(run.exit_status, 0) << run.err;
+  const nlohmann::json summary = Summary(out);
+  EXPECT_EQ(summary["frames"], 2);
+  EXPECT_EQ(summary["detector"], "yolox_nano.onnx");
+  EXPECT_GT(summary["keypoints_dropped"].get<int>(), 0);  // the people in these frames
+  std::size_t lines = 0;
+  for (const char c : ReadText(out / "frames.jsonl")) lines += c == '\n' ? 1 : 0;
+  EXPECT_EQ(lines, 2U);
+  EXPECT_THAT(ReadText(out / "frames.jsonl"), HasSubstr(R"("label":"person")"));
+}
+
+TEST(CliRun, NamesWhatIsMissingAndWritesNothing) {
+  const testing::TempDir scratch;
+  HOIDSLAM_SHARED_PATH_OR_SKIP(sequence, "data/tum/fr3_walking_xyz_pair");
+  const fs::path out = scratch / "run";
+  // A real recording has no ground-truth moving masks.
+  ExpectOneErrorLine(RunHoidslam(scratch, {"run", sequence.string(), "--filter", "oracle", "--out", out.string()}),
+                     "mask");
+  // A filter that needs boxes, with no detector.
+  ExpectOneErrorLine(RunHoidslam(scratch, {"run", sequence.string(), "--filter", "hoid2d", "--detector", "none",
+                                           "--out", out.string()}),
+                     "--filter");
+  // A detections file of another sequence.
+  WriteText(scratch / "other.jsonl", "{\"timestamp\": 1.0, \"detections\": []}\n");
+  ExpectOneErrorLine(RunHoidslam(scratch, {"run", sequence.string(), "--detections", (scratch / "other.jsonl").string(),
+                                           "--out", out.string()}),
+                     "other.jsonl");
+  EXPECT_FALSE(fs::exists(out));
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include <spdlog/spdlog.h>
 
 #include "commands.h"
+#include "detector_options.h"
 #include "sequence_options.h"
 #include "hoidslam/core/error.h"
 #include "hoidslam/core/interrupt.h"
@@ -37,13 +38,8 @@ namespace fs = std::filesystem;
 
 struct DetectArgs {
   SequenceArgs sequence;
-  std::string model;
+  OnnxArgs onnx;
   std::string out;  // empty: <dataset>/detections.jsonl
-  float conf = detect::OnnxDetectorOptions{}.confidence_threshold;
-  float nms = detect::OnnxDetectorOptions{}.nms_threshold;
-  int input_size = 0;
-  std::string layout = "auto";
-  std::string names;
   std::string settings;  // ORB-SLAM3-style settings file: HOID.* and DepthMapFactor
   std::string mode;      // overrides HOID.mode
   std::string annotate;  // folder for annotated frames
@@ -161,14 +157,7 @@ void RunDetect(const DetectArgs& args) {
   const io::RgbdSequence sequence =
       OpenSequence(args.sequence, args.settings.empty() ? std::nullopt : std::optional(settings.depth_map_factor));
 
-  detect::OnnxDetectorOptions options;
-  options.model = args.model;
-  options.confidence_threshold = args.conf;
-  options.nms_threshold = args.nms;
-  options.input_size = args.input_size;
-  options.layout = detect::ParseYoloLayout(args.layout, "Detector.layout (--layout)");
-  options.class_names = args.names;
-  detect::OnnxDetector detector(options);
+  detect::OnnxDetector detector(args.onnx.ToOptions());
   spdlog::info("{}: {}×{} input, {} layout, {} classes; {} frames of {}", detector.Name(), detector.input_size().width,
                detector.input_size().height, detect::ToString(detector.output_format().layout),
                detector.output_format().num_classes, sequence.size(), sequence.name());
@@ -193,17 +182,8 @@ void AddDetectCommand(CLI::App& app) {
       "Run an ONNX detector (YOLOX, YOLOv5, YOLOv8, YOLO11) on every RGB frame of a TUM-layout sequence "
       "and write its detections file (JSON Lines, docs/detections-file.md)");
   AddSequenceOptions(*command, args->sequence);
-  command->add_option("--model", args->model, "Detector model (.onnx)")->required();
+  AddOnnxOptions(*command, args->onnx, /*model_required=*/true);
   command->add_option("--out", args->out, "Detections file to write (default: <dataset>/detections.jsonl)");
-  command->add_option("--conf", args->conf, "Minimum detection score, in (0, 1)")->capture_default_str();
-  command->add_option("--nms", args->nms, "IoU above which a box suppresses a weaker one of its class, in (0, 1]")
-      ->capture_default_str();
-  command->add_option("--input-size", args->input_size,
-                      "Network input side in pixels, a multiple of 32; only for models without a fixed input size "
-                      "(default: the model's, else 640)");
-  command->add_option("--layout", args->layout, "Output layout: auto, yolox, yolov5, yolov8 or yolo11")
-      ->capture_default_str();
-  command->add_option("--names", args->names, "Class names file, one per line in model order (default: COCO-80)");
   command->add_option("--settings", args->settings,
                       "Settings file (e.g. config/TUM3.yaml): its HOID.* section and DepthMapFactor are used");
   command->add_option("--mode", args->mode, "HOID filter mode for --explain/--annotate: none, person, classes, "

@@ -1,0 +1,209 @@
+// `hoidslam run`: RGB-D SLAM over a sequence with the features of people and of the objects they handle
+// dropped before tracking. Writes the trajectory, the keyframes, the sparse map and a per-frame log, and, when
+// the sequence has ground truth, prints its ATE and RPE (docs/slam.md).
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
+
+#include "commands.h"
+#include "detector_options.h"
+#include "sequence_options.h"
+#include "hoidslam/core/error.h"
+#include "hoidslam/core/interrupt.h"
+#include "hoidslam/detect/file_detector.h"
+#include "hoidslam/detect/make_detector.h"
+#include "hoidslam/eval/evaluation.h"
+#include "hoidslam/eval/statistics.h"
+#include "hoidslam/io/atomic_file.h"
+#include "hoidslam/io/settings.h"
+#include "hoidslam/pipeline/run.h"
+
+namespace hoidslam::apps {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct RunArgs {
+  SequenceArgs sequence;
+  std::string settings;
+  std::string detector;    // none | onnx | file; empty: chosen from the other options
+  OnnxArgs onnx;
+  std::string detections;  // detections file; default <dataset>/detections.jsonl
+  std::string filter;      // overrides HOID.mode
+  std::string out;
+  std::size_t frames = 0;
+  bool deterministic = false;
+  bool force = false;
+};
+
+// The detector the options ask for. Without --detector: onnx when a model is given, the detections file when one
+// is given or the dataset has detections.jsonl, else none.
+detect::DetectorOptions ChooseDetector(const RunArgs& args, const pipeline::ExclusionOptions& exclusion) {
+  detect::DetectorOptions options;
+  options.onnx = args.onnx.ToOptions();
+  fs::path detections = args.detections;
+  if (detections.empty() && !args.sequence.dataset.empty()) {
+    const fs::path beside = fs::path(args.sequence.dataset) / "detections.jsonl";
+    if (fs::exists(beside)) detections = beside;
+  }
+  options.detections_file = detections;
+  if (!args.detector.empty()) {
+    options.kind = detect::ParseDetectorKind(args.detector, "--detector");
+  } else if (!args.onnx.model.empty()) {
+    options.kind = detect::DetectorKind::kOnnx;
+  } else if (!detections.empty() && exclusion.NeedsDetections()) {
+    options.kind = detect::DetectorKind::kFile;
+  }
+  if (options.kind == detect::DetectorKind::kFile && detections.empty()) {
+    throw core::InputError::ForParameter("--detections", "--detector file needs a detections file");
+  }
+  if (options.kind == detect::DetectorKind::kNone && exclusion.NeedsDetections()) {
+    throw core::InputError::ForParameter(
+        "--filter", fmt::format("mode {} needs detections: give --model M.onnx or --detections F.jsonl (or use "
+                                "--filter none)",
+                                exclusion.ModeName()));
+  }
+  return options;
+}
+
+// A detections file meant for another sequence fails now; one that lacks a few frames is only reported (those
+// frames reuse the previous frame's detections during the run).
+void CheckDetectionsFile(const detect::FileDetector& detector, const io::RgbdSequence& sequence) {
+  std::size_t missing = 0;
+  for (const double t : sequence.Timestamps()) missing += detector.file().Find(t) == nullptr ? 1 : 0;
+  if (missing == sequence.size()) detector.CheckCovers(sequence.Timestamps(), sequence.name());  // throws
+  if (missing > 0) {
+    spdlog::warn("{}: no detections for {} of the {} frames; those frames use the previous frame's detections",
+                 detector.file().path().string(), missing, sequence.size());
+  }
+}
+
+// The median over the frames of one stage's time (or of a function of the stage times), in ms.
+double MedianMs(const std::vector<pipeline::StageTimes>& times, const std::function<double(const pipeline::StageTimes&)>& of) {
+  std::vector<double> values;
+  values.reserve(times.size());
+  for (const auto& t : times) values.push_back(of(t));
+  return values.empty() ? 0.0 : eval::ComputeStatistics(values).median;
+}
+
+nlohmann::json SummaryJson(const pipeline::RunSummary& s, const std::string& sequence, const std::string& mode,
+                           const std::string& detector) {
+  const auto median = [&](double pipeline::StageTimes::*stage) { return MedianMs(s.times, std::mem_fn(stage)); };
+  return {{"sequence", sequence},
+          {"filter", mode},
+          {"detector", detector},
+          {"frames", s.frames},
+          {"tracked", s.tracked},
+          {"lost", s.lost},
+          {"before_initialization", s.before_initialization},
+          {"keyframes", s.keyframes},
+          {"map_points", s.map_points},
+          {"detector_failures", s.detector_failures},
+          {"keypoints_extracted", s.keypoints_extracted},
+          {"keypoints_dropped", s.keypoints_dropped},
+          {"interrupted", s.interrupted},
+          {"median_ms",
+           {{"load", median(&pipeline::StageTimes::load)},
+            {"extract", median(&pipeline::StageTimes::extract)},
+            {"detect", median(&pipeline::StageTimes::detect)},
+            {"filter", median(&pipeline::StageTimes::filter)},
+            {"track", median(&pipeline::StageTimes::track)},
+            {"tracking_total", MedianMs(s.times, &pipeline::StageTimes::TrackingTotal)}}}};
+}
+
+void RunRun(const RunArgs& args) {
+  std::optional<io::Settings> settings;
+  if (!args.settings.empty()) settings = io::LoadSettings(args.settings);
+  pipeline::RunOptions options = pipeline::RunOptions::FromSettings(settings.value_or(io::Settings{}));
+  if (!settings) spdlog::debug("no --settings: the TUM fr3 camera and the default ORB and HOID settings");
+  if (!args.filter.empty()) pipeline::SetFilterMode(args.filter, options.exclusion, "--filter");
+  options.system.deterministic = args.deterministic;
+  options.max_frames = args.frames;
+  options.system.Check();
+
+  const io::RgbdSequence sequence =
+      OpenSequence(args.sequence, settings ? std::optional(settings->depth_map_factor) : std::nullopt);
+  const detect::DetectorOptions detector_options = ChooseDetector(args, options.exclusion);
+  std::unique_ptr<detect::Detector> detector = detect::MakeDetector(detector_options);
+  if (const auto* file = dynamic_cast<const detect::FileDetector*>(detector.get())) CheckDetectionsFile(*file, sequence);
+
+  io::AtomicFolder out(args.out, args.force, "--out", "use --force to replace it");
+  core::InterruptGuard interrupts;
+  const pipeline::RunSummary summary = pipeline::RunSequence(sequence, *detector, options, out.temporary(),
+                                                             [&interrupts] { return interrupts.requested(); });
+
+  nlohmann::json json = SummaryJson(summary, sequence.name(), std::string(options.exclusion.ModeName()), detector->Name());
+  std::optional<eval::Evaluation> evaluation;
+  const fs::path groundtruth = sequence.root() / "groundtruth.txt";
+  if (!sequence.groundtruth().empty()) {
+    try {
+      evaluation = eval::EvaluateTrajectoryFiles(groundtruth, out.temporary() / "trajectory.txt", {});
+      evaluation->estimate_path = out.path() / "trajectory.txt";  // where it will be once the folder is complete
+      json["evaluation"] = eval::EvaluationToJson(*evaluation);
+    } catch (const core::InputError& e) {
+      spdlog::warn("not evaluated: {}", e.what());
+    }
+  }
+  {
+    io::AtomicFile file(out.temporary() / "summary.json");
+    file.stream() << json.dump(2) << '\n';
+    file.Commit();
+  }
+  out.Commit();
+
+  fmt::print("{}: {} frames, {} tracked, {} lost, {} before initialisation; {} keyframes, {} map points\n",
+             sequence.name(), summary.frames, summary.tracked, summary.lost, summary.before_initialization,
+             summary.keyframes, summary.map_points);
+  fmt::print("keypoints: {} extracted, {} dropped by the filter ({:.1f} %)\n", summary.keypoints_extracted,
+             summary.keypoints_dropped,
+             summary.keypoints_extracted == 0 ? 0.0 : 100.0 * summary.keypoints_dropped / summary.keypoints_extracted);
+  const nlohmann::json& ms = json["median_ms"];
+  fmt::print("median ms per frame: load {:.2f}, extract {:.2f}, detect {:.2f}, filter {:.3f}, track {:.2f}; "
+             "tracking (extract + filter + track) {:.2f}\n",
+             ms["load"].get<double>(), ms["extract"].get<double>(), ms["detect"].get<double>(),
+             ms["filter"].get<double>(), ms["track"].get<double>(), ms["tracking_total"].get<double>());
+  if (evaluation) fmt::print("{}", eval::FormatEvaluation(*evaluation));
+  fmt::print("wrote {}/ (trajectory.txt, keyframes.txt, map.ply, frames.jsonl, summary.json)\n", out.path().string());
+  if (summary.interrupted) {
+    spdlog::warn("interrupted after {} of {} frames; the outputs hold the frames done", summary.frames, sequence.size());
+    interrupts.Reraise();
+  }
+}
+
+}  // namespace
+
+void AddRunCommand(CLI::App& app) {
+  auto args = std::make_shared<RunArgs>();
+  CLI::App* command = app.add_subcommand(
+      "run",
+      "RGB-D SLAM over a TUM / Bonn / synthetic sequence with the features of people and of the objects they handle "
+      "dropped before tracking; writes the trajectory, keyframes, map and a per-frame log, and evaluates against "
+      "groundtruth.txt when the sequence has one");
+  AddSequenceOptions(*command, args->sequence);
+  command->add_option("--settings", args->settings,
+                      "Settings file (ORB-SLAM3 format with a HOID section, e.g. config/TUM3.yaml; default: TUM fr3)");
+  command->add_option("--detector", args->detector,
+                      "none, onnx (--model) or file (--detections); default: onnx with --model, else the detections "
+                      "file when there is one, else none")
+      ->check(CLI::IsMember({"none", "onnx", "file"}));
+  AddOnnxOptions(*command, args->onnx, /*model_required=*/false);
+  command->add_option("--detections", args->detections,
+                      "Detections file to replay (default: detections.jsonl of the dataset folder, when present)");
+  command->add_option("--filter", args->filter,
+                      "What is dropped: none, person, classes, hoid2d, hoid3d, or oracle (the ground-truth moving "
+                      "masks of a synthetic sequence); default: HOID.mode of the settings, else hoid2d");
+  command->add_option("--out", args->out, "Output folder (created complete or not at all)")->required();
+  command->add_option("--frames", args->frames, "Run only the first N frames (0 = all)")->capture_default_str();
+  command->add_flag("--deterministic", args->deterministic,
+                    "Local mapping in step with tracking: identical output on every run (slower)");
+  command->add_flag("--force", args->force, "Replace the --out folder when it exists and is not empty");
+  command->callback([args] { RunRun(*args); });
+}
+
+}  // namespace hoidslam::apps

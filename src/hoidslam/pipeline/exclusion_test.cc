@@ -1,0 +1,131 @@
+#include "hoidslam/pipeline/exclusion.h"
+
+#include <string>
+#include <vector>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+
+#include "hoidslam/core/error.h"
+#include "support/temp_dir.h"
+
+namespace hoidslam::pipeline {
+namespace {
+
+core::Detection Det(const std::string& label, float x, float y, float w, float h) {
+  return {.class_id = -1, .label = label, .score = 0.9F, .box = cv::Rect2f(x, y, w, h)};
+}
+
+core::RgbdFrame Frame(const std::string& rgb_path = "rgb/1.000000.png") {
+  core::RgbdFrame frame;
+  frame.timestamp = 1.0;
+  frame.rgb = cv::Mat(480, 640, CV_8UC3, cv::Scalar(0, 0, 0));
+  frame.depth = cv::Mat(480, 640, CV_32FC1, cv::Scalar(2.0F));
+  frame.rgb_path = rgb_path;
+  return frame;
+}
+
+const std::vector<cv::KeyPoint> kKeypoints = {cv::KeyPoint(10, 10, 31),     // outside every box
+                                              cv::KeyPoint(150, 200, 31),   // in the person
+                                              cv::KeyPoint(255, 205, 31),   // in the cup the person holds
+                                              cv::KeyPoint(500, 100, 31)};  // in a tv nobody touches
+
+const std::vector<core::Detection> kDetections = {Det("person", 100, 100, 150, 300), Det("cup", 220, 190, 40, 40),
+                                                  Det("tv", 450, 50, 100, 100)};
+
+TEST(SetFilterMode, AcceptsTheHoidModesAndOracle) {
+  ExclusionOptions options;
+  SetFilterMode("person", options);
+  EXPECT_EQ(options.hoid.mode, core::FilterMode::kPerson);
+  EXPECT_FALSE(options.oracle);
+  EXPECT_EQ(options.ModeName(), "person");
+  SetFilterMode("oracle", options);
+  EXPECT_TRUE(options.oracle);
+  EXPECT_EQ(options.ModeName(), "oracle");
+  EXPECT_FALSE(options.NeedsDetections());
+  SetFilterMode("none", options);
+  EXPECT_FALSE(options.NeedsDetections());
+  SetFilterMode("hoid3d", options);
+  EXPECT_TRUE(options.NeedsDetections());
+}
+
+TEST(SetFilterMode, NamesTheParameterAndTheChoices) {
+  ExclusionOptions options;
+  try {
+    SetFilterMode("everything", options, "--filter");
+    FAIL() << "no error";
+  } catch (const core::InputError& e) {
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("--filter"));
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("oracle"));
+  }
+}
+
+TEST(KeypointExclusion, Hoid2dDropsThePersonAndTheObjectInHand) {
+  ExclusionOptions options;
+  SetFilterMode("hoid2d", options);
+  const KeypointExclusion exclusion(options, ".");
+  std::vector<std::uint8_t> keep;
+  std::vector<hoid::Decision> decisions;
+  exclusion.Mark(Frame(), kDetections, kKeypoints, keep, decisions);
+  EXPECT_EQ(keep, (std::vector<std::uint8_t>{1, 0, 0, 1}));
+  ASSERT_EQ(decisions.size(), 3U);
+  EXPECT_TRUE(decisions[1].dynamic);
+  EXPECT_FALSE(decisions[2].dynamic);
+}
+
+TEST(KeypointExclusion, NoneKeepsEverything) {
+  ExclusionOptions options;
+  SetFilterMode("none", options);
+  std::vector<std::uint8_t> keep;
+  std::vector<hoid::Decision> decisions;
+  KeypointExclusion(options, ".").Mark(Frame(), kDetections, kKeypoints, keep, decisions);
+  EXPECT_EQ(keep, (std::vector<std::uint8_t>{1, 1, 1, 1}));
+}
+
+TEST(KeypointExclusion, OracleDropsExactlyTheMaskedKeypointsAndIgnoresBoxes) {
+  testing::TempDir dir;
+  std::filesystem::create_directories(dir / "mask");
+  cv::Mat mask(480, 640, CV_8UC1, cv::Scalar(0));
+  mask(cv::Rect(490, 90, 20, 20)).setTo(255);  // only the tv moves, whatever the boxes say
+  cv::imwrite((dir / "mask" / "1.000000.png").string(), mask);
+
+  ExclusionOptions options;
+  SetFilterMode("oracle", options);
+  std::vector<std::uint8_t> keep;
+  std::vector<hoid::Decision> decisions;
+  KeypointExclusion(options, dir.path()).Mark(Frame(), kDetections, kKeypoints, keep, decisions);
+  EXPECT_EQ(keep, (std::vector<std::uint8_t>{1, 1, 1, 0}));
+  for (const hoid::Decision& d : decisions) EXPECT_FALSE(d.dynamic);
+}
+
+TEST(KeypointExclusion, OracleWithoutMasksIsAnErrorNamingTheFolder) {
+  testing::TempDir dir;
+  ExclusionOptions options;
+  SetFilterMode("oracle", options);
+  try {
+    KeypointExclusion exclusion(options, dir.path());
+    FAIL() << "no error";
+  } catch (const core::InputError& e) {
+    EXPECT_THAT(e.what(), ::testing::HasSubstr((dir / "mask").string()));
+  }
+}
+
+TEST(KeypointExclusion, OracleNamesAMissingMaskFile) {
+  testing::TempDir dir;
+  std::filesystem::create_directories(dir / "mask");
+  ExclusionOptions options;
+  SetFilterMode("oracle", options);
+  const KeypointExclusion exclusion(options, dir.path());
+  std::vector<std::uint8_t> keep;
+  std::vector<hoid::Decision> decisions;
+  try {
+    exclusion.Mark(Frame("rgb/7.000000.png"), kDetections, kKeypoints, keep, decisions);
+    FAIL() << "no error";
+  } catch (const core::InputError& e) {
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("7.000000.png"));
+  }
+}
+
+}  // namespace
+}  // namespace hoidslam::pipeline

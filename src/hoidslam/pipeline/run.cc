@@ -1,0 +1,152 @@
+#include "hoidslam/pipeline/run.h"
+
+#include <cmath>
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
+
+#include "hoidslam/core/error.h"
+#include "hoidslam/core/progress.h"
+#include "hoidslam/core/stopwatch.h"
+#include "hoidslam/io/atomic_file.h"
+#include "hoidslam/io/ply_file.h"
+#include "hoidslam/io/trajectory_file.h"
+
+namespace hoidslam::pipeline {
+namespace {
+
+// `value` to `decimals` places, so the log prints 3.687 rather than 3.6870000000000003.
+double Round(double value, int decimals) {
+  const double scale = std::pow(10.0, decimals);
+  return std::round(value * scale) / scale;
+}
+
+nlohmann::json DynamicDetections(const std::vector<core::Detection>& detections,
+                                 const std::vector<hoid::Decision>& decisions) {
+  nlohmann::json list = nlohmann::json::array();
+  for (std::size_t i = 0; i < detections.size(); ++i) {
+    if (!decisions[i].dynamic) continue;
+    const core::Detection& d = detections[i];
+    nlohmann::json entry = {{"label", d.label},
+                            {"score", Round(d.score, 3)},
+                            {"box", {Round(d.box.x, 1), Round(d.box.y, 1), Round(d.box.width, 1),
+                                     Round(d.box.height, 1)}},
+                            {"reason", hoid::ToString(decisions[i].reason)}};
+    if (decisions[i].person_index >= 0 && decisions[i].person_index != static_cast<int>(i)) {
+      entry["person"] = decisions[i].person_index;
+      entry["interaction"] = Round(decisions[i].interaction_ratio, 3);
+    }
+    list.push_back(std::move(entry));
+  }
+  return list;
+}
+
+}  // namespace
+
+RunOptions RunOptions::FromSettings(const io::Settings& settings) {
+  RunOptions options;
+  options.system.camera = settings.camera;
+  options.system.bf = settings.bf;
+  options.system.close_depth = settings.CloseDepthThreshold();
+  options.system.orb = settings.orb;
+  options.system.tracking.keyframe_max_interval = std::max(1, static_cast<int>(std::lround(settings.fps)));
+  options.exclusion.hoid = settings.hoid;
+  return options;
+}
+
+RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detector, const RunOptions& options,
+                       const std::filesystem::path& folder, const std::function<bool()>& stop_requested) {
+  const KeypointExclusion exclusion(options.exclusion, sequence.root());
+  slam::System system(options.system);
+  spdlog::info("{}: {} frames, filter {}, detector {}{}", sequence.name(), sequence.size(),
+               options.exclusion.ModeName(), detector.Name(), options.system.deterministic ? ", deterministic" : "");
+  io::AtomicFile log(folder / "frames.jsonl");
+
+  const std::size_t total = options.max_frames == 0 ? sequence.size() : std::min(options.max_frames, sequence.size());
+  RunSummary summary;
+  summary.times.reserve(total);
+  core::ProgressReporter progress("run", total);
+  std::vector<core::Detection> detections;  // kept across frames: a failed frame reuses the last ones
+  std::vector<hoid::Decision> decisions;
+  std::vector<std::uint8_t> keep;
+  for (std::size_t index = 0; index < total; ++index) {
+    if (stop_requested && stop_requested()) {
+      summary.interrupted = true;
+      break;
+    }
+    StageTimes times;
+    core::Stopwatch clock;
+    const core::RgbdFrame frame = sequence.LoadFrame(index);
+    times.load = clock.ElapsedMilliseconds();
+
+    clock.Restart();
+    const slam::ExtractedFeatures features = system.Extract(frame.rgb);
+    times.extract = clock.ElapsedMilliseconds();
+
+    nlohmann::json entry = {{"frame", index}, {"timestamp", frame.timestamp}};
+    if (options.exclusion.NeedsDetections() || options.exclusion.oracle) {
+      clock.Restart();
+      try {
+        detections = detector.Detect(frame.timestamp, frame.rgb);
+      } catch (const std::exception& e) {
+        // One bad frame must not end a run: the people seen a frame ago are the best guess for this one.
+        ++summary.detector_failures;
+        entry["detector_error"] = e.what();
+        spdlog::warn("frame {} ({:.6f}): detector failed, using the previous frame's detections: {}", index,
+                     frame.timestamp, e.what());
+      }
+      times.detect = clock.ElapsedMilliseconds();
+    }
+
+    clock.Restart();
+    exclusion.Mark(frame, detections, features.keypoints, keep, decisions);
+    times.filter = clock.ElapsedMilliseconds();
+    const auto kept = static_cast<std::size_t>(std::count(keep.begin(), keep.end(), std::uint8_t{1}));
+
+    clock.Restart();
+    const slam::TrackResult result = system.Track(frame, features, keep);
+    times.track = clock.ElapsedMilliseconds();
+
+    ++summary.frames;
+    summary.keypoints_extracted += features.keypoints.size();
+    summary.keypoints_dropped += features.keypoints.size() - kept;
+    if (result.T_cw) {
+      ++summary.tracked;
+    } else if (result.state == slam::TrackingState::kNotInitialized) {
+      ++summary.before_initialization;
+    } else {
+      ++summary.lost;
+    }
+    summary.times.push_back(times);
+
+    entry["state"] = result.T_cw ? "ok" : slam::ToString(result.state);
+    entry["method"] = slam::ToString(result.method);
+    entry["keyframe"] = result.keyframe;
+    entry["features"] = {{"extracted", features.keypoints.size()},
+                         {"dropped", features.keypoints.size() - kept},
+                         {"matched", result.matched},
+                         {"inliers", result.inliers}};
+    entry["dynamic"] = DynamicDetections(detections, decisions);
+    entry["ms"] = {{"load", Round(times.load, 3)},       {"extract", Round(times.extract, 3)},
+                   {"detect", Round(times.detect, 3)},   {"filter", Round(times.filter, 3)},
+                   {"track", Round(times.track, 3)}};
+    log.stream() << entry.dump() << '\n';
+    progress.Update(index + 1);
+  }
+
+  system.Finish();
+  io::WriteTumTrajectory(folder / "trajectory.txt", system.FrameTrajectory());
+  const core::Trajectory keyframes = system.KeyFrameTrajectory();
+  io::WriteTumTrajectory(folder / "keyframes.txt", keyframes);
+  std::vector<io::ColoredPoint> cloud;
+  for (const slam::MapPointSample& p : system.MapPoints()) cloud.push_back({p.position, p.color});
+  io::WritePly(folder / "map.ply", cloud);
+  log.Commit();
+  summary.keyframes = keyframes.size();
+  summary.map_points = cloud.size();
+  return summary;
+}
+
+}  // namespace hoidslam::pipeline

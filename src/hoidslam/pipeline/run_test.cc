@@ -1,0 +1,144 @@
+#include "hoidslam/pipeline/run.h"
+
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "hoidslam/core/error.h"
+#include "hoidslam/detect/file_detector.h"
+#include "hoidslam/io/trajectory_file.h"
+#include "hoidslam/synth/scenario.h"
+#include "hoidslam/synth/sequence_writer.h"
+#include "support/shared_data.h"
+#include "support/temp_dir.h"
+
+namespace hoidslam::pipeline {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A short synthetic walking sequence (people carrying things, the real TUM camera path), written once per test:
+// every 4th frame, so that people are in view from about the 25th frame on.
+fs::path RenderWalking(const testing::TempDir& dir, const fs::path& tum_dir, std::size_t frames) {
+  constexpr int kStep = 4;
+  synth::Scenario scenario = synth::LoadScenario("walking_xyz");
+  scenario.max_frames = frames * kStep;
+  synth::SynthOptions options;
+  options.out = dir / "walking_xyz";
+  options.tum_dir = tum_dir;
+  options.frame_step = kStep;
+  synth::WriteSequence(scenario, options);
+  return options.out;
+}
+
+std::vector<nlohmann::json> ReadLog(const fs::path& path) {
+  std::vector<nlohmann::json> lines;
+  std::ifstream in(path);
+  for (std::string line; std::getline(in, line);) lines.push_back(nlohmann::json::parse(line));
+  return lines;
+}
+
+RunOptions Hoid2d() {
+  RunOptions options = RunOptions::FromSettings(io::Settings{});
+  options.exclusion.hoid.mode = core::FilterMode::kHoid2d;
+  options.system.deterministic = true;
+  return options;
+}
+
+// Replays a detections file but fails on chosen frames, as a flaky network or a file with holes would.
+class FlakyDetector final : public detect::Detector {
+ public:
+  FlakyDetector(const fs::path& file, std::vector<std::size_t> failing) : inner_(file), failing_(std::move(failing)) {}
+  std::vector<core::Detection> Detect(double timestamp, const cv::Mat& bgr) override {
+    const bool fail = std::find(failing_.begin(), failing_.end(), calls_++) != failing_.end();
+    if (fail) throw core::InputError("no detections for this frame");
+    return inner_.Detect(timestamp, bgr);
+  }
+  std::string Name() const override { return "flaky"; }
+
+ private:
+  detect::FileDetector inner_;
+  std::vector<std::size_t> failing_;
+  std::size_t calls_ = 0;
+};
+
+TEST(RunSequence, TracksEveryFrameAndWritesCompleteOutputs) {
+  HOIDSLAM_SHARED_PATH_OR_SKIP(tum_dir, "data/tum");
+  testing::TempDir dir;
+  const fs::path sequence_root = RenderWalking(dir, tum_dir, 40);
+  const io::RgbdSequence sequence = io::RgbdSequence::OpenTum(sequence_root);
+  fs::create_directories(dir / "out");
+  FlakyDetector detector(sequence_root / "detections.jsonl", {5, 6});
+  const RunSummary summary = RunSequence(sequence, detector, Hoid2d(), dir / "out");
+
+  EXPECT_EQ(summary.frames, 40U);
+  EXPECT_EQ(summary.tracked, 40U);
+  EXPECT_EQ(summary.lost + summary.before_initialization, 0U);
+  EXPECT_EQ(summary.detector_failures, 2U);
+  EXPECT_GT(summary.keypoints_dropped, 0U);  // people are in view
+  EXPECT_GT(summary.keyframes, 1U);
+  EXPECT_GT(summary.map_points, 500U);
+  ASSERT_EQ(summary.times.size(), 40U);
+
+  EXPECT_EQ(io::ReadTumTrajectory(dir / "out" / "trajectory.txt").size(), 40U);
+  EXPECT_EQ(io::ReadTumTrajectory(dir / "out" / "keyframes.txt").size(), summary.keyframes);
+  EXPECT_TRUE(fs::exists(dir / "out" / "map.ply"));
+  const std::vector<nlohmann::json> log = ReadLog(dir / "out" / "frames.jsonl");
+  ASSERT_EQ(log.size(), 40U);
+  EXPECT_EQ(log[0]["method"], "initialization");
+  EXPECT_EQ(log[10]["state"], "ok");
+  EXPECT_GE(log[10]["features"]["inliers"].get<int>(), 30);
+  EXPECT_TRUE(log[5].contains("detector_error"));
+  EXPECT_FALSE(log[7].contains("detector_error"));
+  bool person_logged = false;
+  for (const auto& entry : log) {
+    for (const auto& d : entry["dynamic"]) person_logged |= d["label"] == "person" && d["reason"] == "person";
+  }
+  EXPECT_TRUE(person_logged);
+}
+
+TEST(RunSequence, StopsWhenAskedAndKeepsWhatWasDone) {
+  HOIDSLAM_SHARED_PATH_OR_SKIP(tum_dir, "data/tum");
+  testing::TempDir dir;
+  const fs::path sequence_root = RenderWalking(dir, tum_dir, 20);
+  const io::RgbdSequence sequence = io::RgbdSequence::OpenTum(sequence_root);
+  fs::create_directories(dir / "out");
+  detect::FileDetector detector(sequence_root / "detections.jsonl");
+  int polls = 0;
+  const RunSummary summary = RunSequence(sequence, detector, Hoid2d(), dir / "out", [&polls] { return ++polls > 12; });
+  EXPECT_TRUE(summary.interrupted);
+  EXPECT_EQ(summary.frames, 12U);
+  EXPECT_EQ(ReadLog(dir / "out" / "frames.jsonl").size(), 12U);
+  EXPECT_EQ(io::ReadTumTrajectory(dir / "out" / "trajectory.txt").size(), summary.tracked);
+}
+
+TEST(RunSequence, BlackFramesAreLostNotGuessed) {
+  HOIDSLAM_SHARED_PATH_OR_SKIP(tum_dir, "data/tum");
+  testing::TempDir dir;
+  const fs::path sequence_root = RenderWalking(dir, tum_dir, 30);
+  // Frames 10..14 go black (a covered lens) with no depth: nothing to track there.
+  const io::RgbdSequence original = io::RgbdSequence::OpenTum(sequence_root);
+  for (std::size_t i = 10; i < 15; ++i) {
+    cv::imwrite(original.entry(i).rgb_path.string(), cv::Mat(480, 640, CV_8UC3, cv::Scalar(0, 0, 0)));
+    cv::imwrite(original.entry(i).depth_path.string(), cv::Mat(480, 640, CV_16UC1, cv::Scalar(0)));
+  }
+  const io::RgbdSequence sequence = io::RgbdSequence::OpenTum(sequence_root);
+  fs::create_directories(dir / "out");
+  detect::FileDetector detector(sequence_root / "detections.jsonl");
+  const RunSummary summary = RunSequence(sequence, detector, Hoid2d(), dir / "out");
+  EXPECT_EQ(summary.frames, 30U);
+  EXPECT_GE(summary.lost, 5U);
+  EXPECT_EQ(summary.tracked + summary.lost, 30U);
+  // The black frames have no pose in the trajectory.
+  const core::Trajectory trajectory = io::ReadTumTrajectory(dir / "out" / "trajectory.txt");
+  for (const core::StampedPose& pose : trajectory) {
+    for (std::size_t i = 10; i < 15; ++i) EXPECT_NE(pose.timestamp, original.entry(i).rgb_timestamp);
+  }
+}
+
+}  // namespace
+}  // namespace hoidslam::pipeline

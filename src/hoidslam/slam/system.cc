@@ -1,0 +1,137 @@
+#include "hoidslam/slam/system.h"
+
+#include <shared_mutex>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <opencv2/imgproc.hpp>
+
+#include "hoidslam/core/error.h"
+
+namespace hoidslam::slam {
+
+void SystemOptions::Check() const {
+  if (!(bf > 0.0)) throw core::InputError::ForParameter("Camera.bf", fmt::format("must be > 0, got {}", bf));
+  if (!(close_depth > 0.0)) {
+    throw core::InputError::ForParameter("ThDepth", fmt::format("must give a close depth > 0 m, got {}", close_depth));
+  }
+  orb.Check();
+  tracking.Check();
+  mapping.Check();
+}
+
+namespace {
+
+const SystemOptions& Checked(const SystemOptions& options) {
+  options.Check();
+  return options;
+}
+
+// The bundle adjustment of the deterministic mode runs on one thread: Ceres sums in a fixed order then.
+LocalMapperOptions MapperOptions(const SystemOptions& options) {
+  LocalMapperOptions mapping = options.mapping;
+  if (options.deterministic) mapping.bundle_adjustment.num_threads = 1;
+  return mapping;
+}
+
+}  // namespace
+
+System::System(const SystemOptions& options)
+    : options_(Checked(options)),
+      extractor_(options.orb),
+      local_mapper_(map_, MapperOptions(options)),
+      tracker_(map_, local_mapper_, options.tracking) {
+  sensor_ = Sensor::Make(options.camera, options.bf, options.close_depth, extractor_.pyramid());
+  if (!options_.deterministic) local_mapper_.Start();
+}
+
+System::~System() { local_mapper_.Stop(); }
+
+ExtractedFeatures System::Extract(const cv::Mat& image) {
+  if (image.type() == CV_8UC3) {
+    cv::cvtColor(image, gray_, cv::COLOR_BGR2GRAY);
+  } else if (image.type() == CV_8UC1) {
+    gray_ = image;
+  } else {
+    throw std::invalid_argument("System::Extract: expected a CV_8UC3 or CV_8UC1 image");
+  }
+  ExtractedFeatures features;
+  extractor_.Extract(gray_, features.keypoints, features.descriptors);
+  return features;
+}
+
+TrackResult System::Track(const core::RgbdFrame& frame, const ExtractedFeatures& features,
+                          std::span<const std::uint8_t> keep) {
+  const std::size_t n = features.keypoints.size();
+  if (!keep.empty() && keep.size() != n) throw std::invalid_argument("System::Track: one keep flag per keypoint");
+  const cv::Size size(options_.camera.width, options_.camera.height);
+  if (frame.rgb.size() != size || (!frame.depth.empty() && frame.depth.size() != size)) {
+    throw std::invalid_argument(fmt::format("System::Track: images must be {}×{} as the camera settings say",
+                                            size.width, size.height));
+  }
+  std::vector<cv::KeyPoint> kept;
+  cv::Mat descriptors;
+  if (keep.empty()) {
+    kept = features.keypoints;
+    descriptors = features.descriptors.clone();
+  } else {
+    kept.reserve(n);
+    descriptors.create(0, 32, CV_8UC1);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (keep[i] == 0) continue;
+      kept.push_back(features.keypoints[i]);
+      descriptors.push_back(features.descriptors.row(static_cast<int>(i)));
+    }
+    if (kept.empty()) descriptors = cv::Mat(0, 32, CV_8UC1);
+  }
+  auto keypoints = std::make_shared<const KeypointSet>(sensor_, std::move(kept), std::move(descriptors), frame.depth,
+                                                       frame.rgb);
+  TrackResult result = tracker_.Track(Frame(next_frame_id_++, frame.timestamp, std::move(keypoints)));
+  if (options_.deterministic && result.keyframe) local_mapper_.ProcessQueue();
+  return result;
+}
+
+void System::Finish() {
+  local_mapper_.Stop();
+  local_mapper_.ProcessQueue();
+}
+
+core::Trajectory System::FrameTrajectory() const {
+  std::shared_lock lock(map_.mutex());
+  core::Trajectory trajectory;
+  for (const Tracker::FrameRecord& record : tracker_.records()) {
+    if (record.reference == nullptr) continue;
+    // A culled reference keyframe kept its pose relative to its parent: follow the chain to a live one.
+    const KeyFrame* reference = record.reference;
+    core::Pose T_cr = record.T_cr;
+    while (reference->bad()) {
+      T_cr = T_cr * reference->T_cp();
+      reference = reference->parent();
+    }
+    trajectory.push_back({record.timestamp, (T_cr * reference->T_cw()).inverse()});
+  }
+  return trajectory;
+}
+
+core::Trajectory System::KeyFrameTrajectory() const {
+  std::shared_lock lock(map_.mutex());
+  core::Trajectory trajectory;
+  for (const KeyFrame* keyframe : map_.KeyFrames()) trajectory.push_back({keyframe->timestamp(), keyframe->T_wc()});
+  return trajectory;
+}
+
+std::vector<MapPointSample> System::MapPoints() const {
+  std::shared_lock lock(map_.mutex());
+  std::vector<MapPointSample> samples;
+  for (const MapPoint* point : map_.MapPoints()) {
+    samples.push_back({point->position(), point->color(), static_cast<int>(point->observations().size())});
+  }
+  return samples;
+}
+
+std::size_t System::NumKeyFrames() const {
+  std::shared_lock lock(map_.mutex());
+  return map_.NumKeyFrames();
+}
+
+}  // namespace hoidslam::slam

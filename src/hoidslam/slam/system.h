@@ -1,0 +1,89 @@
+#pragma once
+// The SLAM system behind one small facade: ORB extraction, tracking, and local mapping (in its own thread, or
+// in step with tracking in the deterministic mode). A caller extracts a frame's features, decides which
+// keypoints to keep (the exclusion filter), and tracks the frame with the kept ones; at the end it reads the
+// trajectory and the map.
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include <opencv2/core/mat.hpp>
+
+#include "hoidslam/core/camera.h"
+#include "hoidslam/core/frame.h"
+#include "hoidslam/core/options.h"
+#include "hoidslam/core/pose.h"
+#include "hoidslam/features/orb_extractor.h"
+#include "hoidslam/slam/local_mapper.h"
+#include "hoidslam/slam/map.h"
+#include "hoidslam/slam/sensor.h"
+#include "hoidslam/slam/tracker.h"
+
+namespace hoidslam::slam {
+
+struct SystemOptions {
+  core::CameraIntrinsics camera;
+  double bf = 40.0;           // Camera.bf: virtual baseline (metres) times fx (pixels)
+  double close_depth = 2.99;  // metres: ThDepth * bf / fx
+  core::OrbOptions orb;
+  TrackerOptions tracking;
+  LocalMapperOptions mapping;
+  // Local mapping in step with tracking (no thread) and single-threaded bundle adjustment: the same input gives
+  // a byte-identical trajectory on every run.
+  bool deterministic = false;
+
+  void Check() const;
+};
+
+struct ExtractedFeatures {
+  std::vector<cv::KeyPoint> keypoints;
+  cv::Mat descriptors;
+};
+
+// A map point as the outputs show it.
+struct MapPointSample {
+  Eigen::Vector3d position;
+  cv::Vec3b color;  // BGR
+  int observations = 0;
+};
+
+class System {
+ public:
+  // Throws core::InputError when the options fail Check().
+  explicit System(const SystemOptions& options);
+  ~System();  // stops local mapping
+  System(const System&) = delete;
+  System& operator=(const System&) = delete;
+
+  // ORB features of a colour (CV_8UC3, BGR) or grey (CV_8UC1) image.
+  ExtractedFeatures Extract(const cv::Mat& image);
+
+  // Tracks the next frame with the keypoints whose keep flag is non-zero (keep is empty: all). The frame's depth
+  // (metres) and colour are sampled at the kept keypoints. Throws std::invalid_argument when keep has the wrong
+  // size or the images do not match the camera size.
+  TrackResult Track(const core::RgbdFrame& frame, const ExtractedFeatures& features, std::span<const std::uint8_t> keep);
+
+  // Lets local mapping finish its queue and stops it; the outputs below then show the final map.
+  void Finish();
+
+  // Every tracked frame's pose, placed relative to its reference keyframe as the map finally has it.
+  core::Trajectory FrameTrajectory() const;
+  // The keyframes' poses, by id.
+  core::Trajectory KeyFrameTrajectory() const;
+  std::vector<MapPointSample> MapPoints() const;
+  std::size_t NumKeyFrames() const;
+
+ private:
+  SystemOptions options_;
+  std::shared_ptr<const Sensor> sensor_;
+  features::OrbExtractor extractor_;
+  Map map_;
+  LocalMapper local_mapper_;
+  Tracker tracker_;
+  std::uint64_t next_frame_id_ = 0;
+  cv::Mat gray_;
+};
+
+}  // namespace hoidslam::slam

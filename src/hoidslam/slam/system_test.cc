@@ -1,0 +1,159 @@
+#include "hoidslam/slam/system.h"
+
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+#include <random>
+#include <stdexcept>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include "hoidslam/core/error.h"
+
+namespace hoidslam::slam {
+namespace {
+
+constexpr double kPlaneDepth = 2.0;  // metres
+constexpr int kShift = 3;            // pixels per frame
+
+// A texture of random grey rectangles and discs, larger than the image so that frames can be cut from it.
+cv::Mat MakeTexture(std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<int> x(0, 799), y(0, 599), size(4, 40), grey(0, 255);
+  cv::Mat texture(600, 800, CV_8UC3, cv::Scalar::all(128));
+  for (int k = 0; k < 1500; ++k) {
+    const cv::Scalar colour = cv::Scalar::all(grey(rng));
+    const cv::Point p(x(rng), y(rng));
+    if (k % 2 == 0) {
+      cv::rectangle(texture, cv::Rect(p, cv::Size(size(rng), size(rng))), colour, cv::FILLED);
+    } else {
+      cv::circle(texture, p, size(rng) / 2, colour, cv::FILLED, cv::LINE_AA);
+    }
+  }
+  return texture;
+}
+
+// Frame k of a camera sliding along -x in front of a textured wall at kPlaneDepth: the image content moves
+// right by kShift pixels a frame.
+core::RgbdFrame MakeFrame(const cv::Mat& texture, int k) {
+  core::RgbdFrame frame;
+  frame.timestamp = 100.0 + k / 30.0;
+  frame.rgb = texture(cv::Rect(80 - kShift * k, 60, 640, 480)).clone();
+  frame.depth = cv::Mat(480, 640, CV_32FC1, cv::Scalar(kPlaneDepth));
+  return frame;
+}
+
+SystemOptions Options() {
+  SystemOptions options;
+  options.deterministic = true;
+  return options;
+}
+
+// The true T_cw of frame k (the first camera is the world frame).
+Eigen::Vector3d TrueTranslation(int k) {
+  return {kShift * k * kPlaneDepth / core::CameraIntrinsics{}.fx, 0.0, 0.0};
+}
+
+TEST(System, TracksACameraSlidingAlongATexturedWall) {
+  const cv::Mat texture = MakeTexture(3);
+  System system(Options());
+  constexpr int kFrames = 8;
+  for (int k = 0; k < kFrames; ++k) {
+    const core::RgbdFrame frame = MakeFrame(texture, k);
+    const ExtractedFeatures features = system.Extract(frame.rgb);
+    const TrackResult result = system.Track(frame, features, {});
+    ASSERT_EQ(result.state, TrackingState::kOk) << "frame " << k;
+    ASSERT_TRUE(result.T_cw.has_value());
+    EXPECT_EQ(result.keypoints, static_cast<int>(features.keypoints.size()));
+    if (k == 0) {
+      EXPECT_EQ(result.method, TrackingMethod::kInitialization);
+      EXPECT_TRUE(result.keyframe);
+      EXPECT_GE(result.inliers, 500);
+    } else {
+      EXPECT_NE(result.method, TrackingMethod::kInitialization);
+      EXPECT_GE(result.inliers, 200) << "frame " << k;
+    }
+    EXPECT_LT((result.T_cw->translation() - TrueTranslation(k)).norm(), 0.003) << "frame " << k;
+    EXPECT_LT(Eigen::AngleAxisd(result.T_cw->linear()).angle(), 0.2 * std::numbers::pi / 180.0) << "frame " << k;
+  }
+  system.Finish();
+
+  const core::Trajectory trajectory = system.FrameTrajectory();
+  ASSERT_EQ(trajectory.size(), static_cast<std::size_t>(kFrames));
+  for (int k = 0; k < kFrames; ++k) {
+    EXPECT_DOUBLE_EQ(trajectory[static_cast<std::size_t>(k)].timestamp, 100.0 + k / 30.0);
+    // Camera centres: T_wc translation = -T_cw translation here (no rotation).
+    EXPECT_LT((trajectory[static_cast<std::size_t>(k)].T_wc.translation() + TrueTranslation(k)).norm(), 0.003);
+  }
+  EXPECT_GE(system.NumKeyFrames(), 1U);
+  EXPECT_EQ(system.KeyFrameTrajectory().size(), system.NumKeyFrames());
+  const std::vector<MapPointSample> points = system.MapPoints();
+  ASSERT_GE(points.size(), 500U);
+  for (const MapPointSample& p : points) {
+    EXPECT_NEAR(p.position.z(), kPlaneDepth, 0.05);  // every point lies on the wall
+    EXPECT_GE(p.observations, 1);
+  }
+}
+
+TEST(System, DeterministicModeRepeatsItself) {
+  const cv::Mat texture = MakeTexture(5);
+  std::vector<core::Trajectory> runs;
+  for (int run = 0; run < 2; ++run) {
+    System system(Options());
+    for (int k = 0; k < 5; ++k) {
+      const core::RgbdFrame frame = MakeFrame(texture, k);
+      system.Track(frame, system.Extract(frame.rgb), {});
+    }
+    system.Finish();
+    runs.push_back(system.FrameTrajectory());
+  }
+  ASSERT_EQ(runs[0].size(), runs[1].size());
+  for (std::size_t i = 0; i < runs[0].size(); ++i) {
+    EXPECT_TRUE(runs[0][i].T_wc.matrix() == runs[1][i].T_wc.matrix()) << i;
+  }
+}
+
+TEST(System, KeepFlagsSelectKeypoints) {
+  const cv::Mat texture = MakeTexture(3);
+  System system(Options());
+  const core::RgbdFrame frame = MakeFrame(texture, 0);
+  const ExtractedFeatures features = system.Extract(frame.rgb);
+  ASSERT_GT(features.keypoints.size(), 600U);
+  // Nothing kept: nothing to start a map with.
+  const std::vector<std::uint8_t> none(features.keypoints.size(), 0);
+  TrackResult result = system.Track(frame, features, none);
+  EXPECT_EQ(result.keypoints, 0);
+  EXPECT_EQ(result.state, TrackingState::kNotInitialized);
+  EXPECT_FALSE(result.T_cw.has_value());
+  // Every other one kept.
+  std::vector<std::uint8_t> half(features.keypoints.size(), 0);
+  int kept = 0;
+  for (std::size_t i = 0; i < half.size(); i += 2, ++kept) half[i] = 1;
+  result = system.Track(MakeFrame(texture, 0), features, half);
+  EXPECT_EQ(result.keypoints, kept);
+  EXPECT_EQ(result.state, TrackingState::kOk);
+  EXPECT_EQ(result.inliers, kept);  // all have depth
+}
+
+TEST(System, RejectsBadInput) {
+  SystemOptions bad = Options();
+  bad.bf = 0.0;
+  EXPECT_THROW(System{bad}, core::InputError);
+
+  const cv::Mat texture = MakeTexture(3);
+  System system(Options());
+  core::RgbdFrame frame = MakeFrame(texture, 0);
+  const ExtractedFeatures features = system.Extract(frame.rgb);
+  const std::vector<std::uint8_t> short_keep(features.keypoints.size() - 1, 1);
+  EXPECT_THROW(system.Track(frame, features, short_keep), std::invalid_argument);
+  core::RgbdFrame small = frame;
+  small.depth = cv::Mat(240, 320, CV_32FC1, cv::Scalar(1.0));
+  EXPECT_THROW(system.Track(small, features, {}), std::invalid_argument);
+  EXPECT_THROW(system.Extract(cv::Mat(480, 640, CV_32FC1)), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace hoidslam::slam

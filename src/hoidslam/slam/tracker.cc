@@ -1,0 +1,513 @@
+#include "hoidslam/slam/tracker.h"
+
+#include <algorithm>
+#include <map>
+#include <mutex>
+#include <numeric>
+#include <shared_mutex>
+#include <unordered_set>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
+#include <opencv2/features2d.hpp>
+
+#include "hoidslam/core/enum_names.h"
+#include "hoidslam/core/error.h"
+#include "hoidslam/slam/matcher.h"
+
+namespace hoidslam::slam {
+namespace {
+
+constexpr core::EnumNames<TrackingState, 3> kStateNames = {{
+    {TrackingState::kNotInitialized, "not_initialized"},
+    {TrackingState::kOk, "ok"},
+    {TrackingState::kLost, "lost"},
+}};
+constexpr core::EnumNames<TrackingMethod, 5> kMethodNames = {{
+    {TrackingMethod::kNone, "none"},
+    {TrackingMethod::kInitialization, "initialization"},
+    {TrackingMethod::kMotionModel, "motion_model"},
+    {TrackingMethod::kReferenceKeyFrame, "reference_keyframe"},
+    {TrackingMethod::kRelocalization, "relocalization"},
+}};
+
+// Matches needed before a pose optimisation is worth trying, and inliers after it for the first estimate.
+constexpr int kMinProjectionMatches = 20;
+constexpr int kMinDescriptorMatches = 15;
+constexpr int kMinFirstEstimateInliers = 10;
+
+int CountMatches(const Frame& frame) {
+  return static_cast<int>(std::count_if(frame.map_points.begin(), frame.map_points.end(),
+                                        [](const MapPoint* p) { return p != nullptr; }));
+}
+
+// The motion `T` that took `seconds`, continued at the same rate for `elapsed` seconds (rotation about the same
+// axis, translation in proportion). Up to 4 times the measured interval: beyond that constant velocity means little.
+core::Pose ScaleMotion(const core::Pose& T, double seconds, double elapsed) {
+  if (!(seconds > 0.0) || !(elapsed > 0.0)) return T;
+  const double ratio = std::min(elapsed / seconds, 4.0);
+  const Eigen::AngleAxisd rotation(T.linear());
+  core::Pose scaled = core::Pose::Identity();
+  scaled.linear() = Eigen::AngleAxisd(rotation.angle() * ratio, rotation.axis()).toRotationMatrix();
+  scaled.translation() = T.translation() * ratio;
+  return scaled;
+}
+
+void ClearMatches(Frame& frame) {
+  std::fill(frame.map_points.begin(), frame.map_points.end(), nullptr);
+  std::fill(frame.outlier.begin(), frame.outlier.end(), 0);
+}
+
+}  // namespace
+
+std::string_view ToString(TrackingState state) { return core::EnumName(kStateNames, state); }
+std::string_view ToString(TrackingMethod method) { return core::EnumName(kMethodNames, method); }
+
+void TrackerOptions::Check() const {
+  const auto positive = [](double value, const char* name) {
+    if (!(value > 0.0)) throw core::InputError::ForParameter(name, fmt::format("must be > 0, got {}", value));
+  };
+  positive(min_initial_points, "Tracking.minInitialPoints");
+  positive(motion_search_radius, "Tracking.motionSearchRadius");
+  positive(local_search_radius, "Tracking.localSearchRadius");
+  positive(min_inliers, "Tracking.minInliers");
+  positive(min_inliers_after_relocalization, "Tracking.minInliersAfterRelocalization");
+  positive(max_local_keyframes, "Tracking.maxLocalKeyFrames");
+  positive(keyframe_max_interval, "Tracking.keyFrameMaxInterval");
+  positive(relocalization_candidates, "Tracking.relocalizationCandidates");
+  positive(keyframe_min_new_points, "Tracking.keyFrameMinNewPoints");
+}
+
+Tracker::Tracker(Map& map, LocalMapper& local_mapper, const TrackerOptions& options)
+    : map_(map), local_mapper_(local_mapper), options_(options) {
+  options_.Check();
+}
+
+TrackResult Tracker::Track(Frame frame) {
+  TrackResult result;
+  result.keypoints = frame.size();
+  bool ok = false;
+  bool make_keyframe = false;
+  {
+    std::shared_lock lock(map_.mutex());
+    if (state_ == TrackingState::kNotInitialized) {
+      // Initialisation writes the map: done below under the exclusive lock.
+    } else {
+      if (state_ == TrackingState::kOk) {
+        // Local mapping may have fused points the last frame matched, or moved its reference keyframe.
+        Frame& last = *last_frame_;
+        for (MapPoint*& p : last.map_points) {
+          if (p != nullptr) p = p->Current();
+        }
+        const FrameRecord& last_record = records_.back();
+        if (last_record.reference != nullptr && !last_record.reference->bad()) {
+          last.T_cw = last_record.T_cr * last_record.reference->T_cw();
+        }
+        const bool just_relocalized =
+            last_relocalization_frame_id_ && frame.id <= *last_relocalization_frame_id_ + 2;
+        if (velocity_ && !just_relocalized && TrackWithMotionModel(frame)) {
+          result.method = TrackingMethod::kMotionModel;
+          ok = TrackLocalMap(frame, result);
+        }
+        // The prediction may have led to a wrong pose that the local map does not confirm: start again from the
+        // reference keyframe before giving the frame up.
+        if (!ok && TrackReferenceKeyFrame(frame)) {
+          result.method = TrackingMethod::kReferenceKeyFrame;
+          ok = TrackLocalMap(frame, result);
+        }
+      } else if (Relocalize(frame)) {
+        result.method = TrackingMethod::kRelocalization;
+        last_relocalization_frame_id_ = frame.id;
+        ok = TrackLocalMap(frame, result);
+      }
+      if (ok) {
+        // A lost last frame has no pose to measure the motion from.
+        if (state_ == TrackingState::kOk) {
+          velocity_ = frame.T_cw * last_frame_->T_cw.inverse();
+          velocity_seconds_ = frame.timestamp - last_frame_->timestamp;
+        } else {
+          velocity_.reset();
+        }
+        make_keyframe = NeedNewKeyFrame(frame, result.inliers);
+      } else {
+        velocity_.reset();
+      }
+    }
+  }
+
+  if (state_ == TrackingState::kNotInitialized) {
+    std::unique_lock lock(map_.mutex());
+    ok = Initialize(frame);
+    if (ok) {
+      result.method = TrackingMethod::kInitialization;
+      result.keyframe = true;
+      result.matched = result.inliers = frame.keypoints->num_with_depth();
+    }
+  } else if (make_keyframe) {
+    std::unique_lock lock(map_.mutex());
+    CreateKeyFrame(frame);
+    result.keyframe = true;
+  }
+  if (result.keyframe) local_mapper_.Insert(last_keyframe_);
+
+  if (ok) {
+    state_ = TrackingState::kOk;
+    result.T_cw = frame.T_cw;
+    if (frame.reference_keyframe == nullptr) frame.reference_keyframe = reference_keyframe_;
+    reference_keyframe_ = frame.reference_keyframe;
+    records_.push_back({frame.timestamp, reference_keyframe_, frame.T_cw * reference_keyframe_->T_wc()});
+    // The next frame searches from this one's inliers only.
+    for (int i = 0; i < frame.size(); ++i) {
+      if (frame.outlier[static_cast<std::size_t>(i)] != 0) frame.map_points[static_cast<std::size_t>(i)] = nullptr;
+    }
+  } else {
+    if (state_ == TrackingState::kOk) state_ = TrackingState::kLost;
+    records_.push_back({frame.timestamp, nullptr, core::Pose::Identity()});
+  }
+  result.state = state_;
+  last_frame_ = std::move(frame);
+  return result;
+}
+
+bool Tracker::Initialize(Frame& frame) {
+  if (frame.keypoints->num_with_depth() < options_.min_initial_points) {
+    spdlog::debug("frame {}: {} keypoints with depth, {} needed to start the map", frame.id,
+                  frame.keypoints->num_with_depth(), options_.min_initial_points);
+    return false;
+  }
+  frame.T_cw = core::Pose::Identity();
+  KeyFrame* keyframe = map_.CreateKeyFrame(frame.id, frame.timestamp, frame.keypoints, frame.T_cw);
+  const KeypointSet& keypoints = *frame.keypoints;
+  for (int i = 0; i < keypoints.size(); ++i) {
+    if (!keypoints.has_depth(i)) continue;
+    frame.map_points[static_cast<std::size_t>(i)] = map_.CreateMapPoint(keypoints.Unproject(i), keyframe, i);
+  }
+  frame.reference_keyframe = keyframe;
+  last_keyframe_ = reference_keyframe_ = keyframe;
+  last_keyframe_frame_id_ = frame.id;
+  return true;
+}
+
+int Tracker::OptimizeFramePose(Frame& frame, bool drop_outliers) {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<KeypointMeasurement> measurements;
+  std::vector<int> index;
+  for (int i = 0; i < frame.size(); ++i) {
+    const MapPoint* p = frame.map_points[static_cast<std::size_t>(i)];
+    if (p == nullptr) continue;
+    points.push_back(p->position());
+    measurements.push_back(frame.keypoints->Measurement(i));
+    index.push_back(i);
+  }
+  std::vector<std::uint8_t> outlier;
+  const int inliers = OptimizePose(frame.keypoints->sensor().camera, points, measurements, frame.T_cw, outlier,
+                                   options_.pose_optimizer);
+  for (std::size_t k = 0; k < index.size(); ++k) {
+    const auto i = static_cast<std::size_t>(index[k]);
+    frame.outlier[i] = outlier.empty() ? 1 : outlier[k];
+    if (drop_outliers && frame.outlier[i] != 0) {
+      frame.map_points[i] = nullptr;
+      frame.outlier[i] = 0;
+    }
+  }
+  return inliers;
+}
+
+bool Tracker::TrackWithMotionModel(Frame& frame) {
+  const Frame& last = *last_frame_;
+  frame.T_cw = ScaleMotion(*velocity_, velocity_seconds_, frame.timestamp - last.timestamp) * last.T_cw;
+  ClearMatches(frame);
+  int matches = SearchByProjection(frame, last, options_.motion_search_radius);
+  if (matches < kMinProjectionMatches) {
+    ClearMatches(frame);
+    matches = SearchByProjection(frame, last, 2.0 * options_.motion_search_radius);
+  }
+  const int inliers = matches < kMinProjectionMatches ? 0 : OptimizeFramePose(frame, true);
+  spdlog::debug("frame {}: motion model: {} matches, {} inliers", frame.id, matches, inliers);
+  return inliers >= kMinFirstEstimateInliers;
+}
+
+bool Tracker::TrackReferenceKeyFrame(Frame& frame) {
+  if (reference_keyframe_ == nullptr || reference_keyframe_->bad()) return false;
+  ClearMatches(frame);
+  const int matches = SearchByDescriptor(*reference_keyframe_, frame, frame.map_points);
+  frame.T_cw = last_frame_->T_cw;
+  const int inliers = matches < kMinDescriptorMatches ? 0 : OptimizeFramePose(frame, true);
+  spdlog::debug("frame {}: reference keyframe {}: {} matches, {} inliers", frame.id, reference_keyframe_->id(),
+                matches, inliers);
+  return inliers >= kMinFirstEstimateInliers;
+}
+
+std::vector<KeyFrame*> Tracker::LocalKeyFrames(Frame& frame) const {
+  // Keyframes that see the frame's points, by how many; keyed by id so the order never depends on addresses.
+  std::map<KeyFrameId, std::pair<KeyFrame*, int>> seen;
+  for (const MapPoint* p : frame.map_points) {
+    if (p == nullptr || p->bad()) continue;
+    for (const MapPoint::Observation& o : p->observations()) {
+      auto& entry = seen[o.keyframe->id()];
+      entry.first = o.keyframe;
+      ++entry.second;
+    }
+  }
+  std::vector<KeyFrame*> local;
+  std::unordered_set<const KeyFrame*> included;
+  const auto include = [&](KeyFrame* keyframe) {
+    if (keyframe == nullptr || keyframe->bad() || !included.insert(keyframe).second) return false;
+    local.push_back(keyframe);
+    return true;
+  };
+  int best = 0;
+  for (const auto& [id, entry] : seen) {
+    if (entry.first->bad()) continue;
+    include(entry.first);
+    if (entry.second > best) {
+      best = entry.second;
+      frame.reference_keyframe = entry.first;
+    }
+  }
+  // Their neighbours: one strong covisible keyframe, one child and the parent of each.
+  const std::size_t direct = local.size();
+  const auto max_local = static_cast<std::size_t>(options_.max_local_keyframes);
+  for (std::size_t k = 0; k < direct && local.size() < max_local; ++k) {
+    for (KeyFrame* neighbour : local[k]->BestCovisibles(10)) {
+      if (include(neighbour)) break;
+    }
+    for (KeyFrame* child : local[k]->children()) {
+      if (include(child)) break;
+    }
+    include(local[k]->parent());
+  }
+  return local;
+}
+
+bool Tracker::TrackLocalMap(Frame& frame, TrackResult& result) {
+  const std::vector<KeyFrame*> local_keyframes = LocalKeyFrames(frame);
+  std::unordered_set<const MapPoint*> in_frame;
+  for (MapPoint* p : frame.map_points) {
+    if (p == nullptr || p->bad()) continue;
+    p->IncreaseVisible();
+    in_frame.insert(p);
+  }
+  std::vector<ProjectedPoint> projected;
+  std::unordered_set<const MapPoint*> considered;
+  const Sensor& sensor = frame.keypoints->sensor();
+  for (const KeyFrame* keyframe : local_keyframes) {
+    for (MapPoint* p : keyframe->map_points()) {
+      if (p == nullptr || p->bad() || in_frame.contains(p) || !considered.insert(p).second) continue;
+      ProjectedPoint candidate;
+      if (ProjectIntoFrame(*p, frame.T_cw, sensor, 0.5, candidate)) {
+        p->IncreaseVisible();
+        projected.push_back(candidate);
+      }
+    }
+  }
+  const bool recently_relocalized = last_relocalization_frame_id_ && frame.id < *last_relocalization_frame_id_ + 2;
+  const int found = SearchByProjection(frame, projected, recently_relocalized ? 5.0 : options_.local_search_radius);
+  spdlog::debug("frame {}: local map: {} keyframes, {} points in view, {} found", frame.id, local_keyframes.size(),
+                projected.size(), found);
+
+  result.matched = CountMatches(frame);
+  result.inliers = OptimizeFramePose(frame, false);
+  for (int i = 0; i < frame.size(); ++i) {
+    if (frame.IsInlier(i)) frame.map_points[static_cast<std::size_t>(i)]->IncreaseFound();
+  }
+  spdlog::debug("frame {}: local map: {} matched, {} inliers", frame.id, result.matched, result.inliers);
+  const bool relocalized_lately =
+      last_relocalization_frame_id_ &&
+      frame.id < *last_relocalization_frame_id_ + static_cast<std::uint64_t>(options_.keyframe_max_interval);
+  return result.inliers >= (relocalized_lately ? options_.min_inliers_after_relocalization : options_.min_inliers);
+}
+
+bool Tracker::NeedNewKeyFrame(const Frame& frame, int inliers) const {
+  const std::size_t keyframes = map_.NumKeyFrames();
+  const auto max_interval = static_cast<std::uint64_t>(options_.keyframe_max_interval);
+  // Right after relocalising, wait for the map to be trusted again.
+  if (last_relocalization_frame_id_ && frame.id < *last_relocalization_frame_id_ + max_interval &&
+      keyframes > max_interval) {
+    return false;
+  }
+  const int min_observations = keyframes <= 2 ? 2 : 3;
+  const int reference_points = reference_keyframe_->NumTrackedPoints(min_observations);
+  const bool mapper_idle = local_mapper_.Idle();
+
+  // Close keypoints tracked and not tracked: many untracked close ones mean new structure worth mapping.
+  const KeypointSet& keypoints = *frame.keypoints;
+  int tracked_close = 0, untracked_close = 0;
+  for (int i = 0; i < keypoints.size(); ++i) {
+    if (!keypoints.has_depth(i) || keypoints.depth(i) >= keypoints.sensor().close_depth) continue;
+    if (frame.IsInlier(i)) {
+      ++tracked_close;
+    } else {
+      ++untracked_close;
+    }
+  }
+  const bool need_close = tracked_close < 100 && untracked_close > 70;
+  const double reference_ratio = keyframes < 2 ? 0.4 : 0.75;
+
+  const bool interval_passed = frame.id >= last_keyframe_frame_id_ + max_interval;
+  const bool weak = inliers < 0.25 * reference_points || need_close;
+  const bool fewer_than_reference = (inliers < reference_ratio * reference_points || need_close) && inliers > 15;
+  if (!((interval_passed || mapper_idle || weak) && fewer_than_reference)) return false;
+  return mapper_idle || local_mapper_.Queued() < 3;
+}
+
+void Tracker::CreateKeyFrame(Frame& frame) {
+  KeyFrame* keyframe = map_.CreateKeyFrame(frame.id, frame.timestamp, frame.keypoints, frame.T_cw);
+  for (int i = 0; i < frame.size(); ++i) {
+    MapPoint* p = frame.map_points[static_cast<std::size_t>(i)];
+    if (p != nullptr && !p->bad() && frame.outlier[static_cast<std::size_t>(i)] == 0 && p->IndexIn(keyframe) < 0) {
+      map_.AddObservation(p, keyframe, i);
+    }
+  }
+  // New points from depth, nearest first: every close keypoint, and far ones until keyframe_min_new_points.
+  const KeypointSet& keypoints = *frame.keypoints;
+  std::vector<int> with_depth;
+  for (int i = 0; i < keypoints.size(); ++i) {
+    if (keypoints.has_depth(i)) with_depth.push_back(i);
+  }
+  std::stable_sort(with_depth.begin(), with_depth.end(),
+                   [&](int a, int b) { return keypoints.depth(a) < keypoints.depth(b); });
+  const core::Pose T_wc = frame.T_cw.inverse();
+  int points = 0;
+  for (const int i : with_depth) {
+    const auto k = static_cast<std::size_t>(i);
+    if (keyframe->map_point(i) == nullptr) {
+      frame.map_points[k] = map_.CreateMapPoint(T_wc * keypoints.Unproject(i), keyframe, i);
+      frame.outlier[k] = 0;
+    }
+    ++points;
+    if (keypoints.depth(i) > keypoints.sensor().close_depth && points > options_.keyframe_min_new_points) break;
+  }
+  frame.reference_keyframe = keyframe;
+  last_keyframe_ = keyframe;
+  last_keyframe_frame_id_ = frame.id;
+}
+
+bool Tracker::Relocalize(Frame& frame) {
+  const KeypointSet& keypoints = *frame.keypoints;
+  if (keypoints.size() < kMinDescriptorMatches) return false;
+  const std::vector<KeyFrame*> keyframes = map_.KeyFrames();
+  if (keyframes.empty()) return false;
+
+  // Votes: how often a keyframe's strongest points hold the nearest neighbour of one of the frame's descriptors.
+  constexpr int kSignatureSize = 64;
+  cv::Mat signatures;
+  std::vector<int> owner;
+  for (std::size_t k = 0; k < keyframes.size(); ++k) {
+    const KeyFrame& keyframe = *keyframes[k];
+    std::vector<int> rows;
+    for (int i = 0; i < keyframe.keypoints().size(); ++i) {
+      const MapPoint* p = keyframe.map_point(i);
+      if (p != nullptr && !p->bad()) rows.push_back(i);
+    }
+    std::stable_sort(rows.begin(), rows.end(), [&](int a, int b) {
+      return keyframe.keypoints().keypoint(a).response > keyframe.keypoints().keypoint(b).response;
+    });
+    rows.resize(std::min<std::size_t>(rows.size(), kSignatureSize));
+    for (const int i : rows) {
+      signatures.push_back(keyframe.keypoints().descriptors().row(i));
+      owner.push_back(static_cast<int>(k));
+    }
+  }
+  if (signatures.empty()) return false;
+  std::vector<cv::DMatch> nearest;
+  cv::BFMatcher(cv::NORM_HAMMING).match(keypoints.descriptors(), signatures, nearest);
+  std::vector<int> votes(keyframes.size(), 0);
+  for (const cv::DMatch& m : nearest) {
+    if (m.distance <= kDescriptorDistanceLow) ++votes[static_cast<std::size_t>(owner[static_cast<std::size_t>(m.trainIdx)])];
+  }
+  // Candidates: the keyframe tracking last relied on and its neighbours (most losses are short), then the best-voted
+  // keyframes; tried in order of how many of their points the frame's descriptors match.
+  std::vector<KeyFrame*> candidates;
+  std::unordered_set<const KeyFrame*> included;
+  const auto consider = [&](KeyFrame* keyframe) {
+    if (keyframe != nullptr && !keyframe->bad() && included.insert(keyframe).second) candidates.push_back(keyframe);
+  };
+  if (reference_keyframe_ != nullptr) {
+    consider(reference_keyframe_);
+    for (KeyFrame* neighbour : reference_keyframe_->BestCovisibles(10)) consider(neighbour);
+  }
+  std::vector<std::size_t> order(keyframes.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return votes[a] > votes[b]; });
+  const std::size_t voted = std::min(order.size(), static_cast<std::size_t>(options_.relocalization_candidates));
+  for (std::size_t t = 0; t < voted; ++t) consider(keyframes[order[t]]);
+
+  std::vector<std::pair<int, std::size_t>> ranked;  // (matches, index into candidates)
+  std::vector<std::vector<MapPoint*>> candidate_matches(candidates.size());
+  for (std::size_t c = 0; c < candidates.size(); ++c) {
+    const int matches = SearchByDescriptor(*candidates[c], frame, candidate_matches[c], 0.75F);
+    if (matches >= kMinDescriptorMatches) ranked.emplace_back(matches, c);
+  }
+  std::stable_sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+
+  const core::CameraIntrinsics& intrinsics = keypoints.sensor().intrinsics;
+  const cv::Matx33d K(intrinsics.fx, 0, intrinsics.cx, 0, intrinsics.fy, intrinsics.cy, 0, 0, 1);
+  for (const auto& [matches, c] : ranked) {
+    KeyFrame* candidate = candidates[c];
+    ClearMatches(frame);
+    frame.map_points = candidate_matches[c];
+    spdlog::debug("frame {}: relocalisation candidate keyframe {}: {} matches", frame.id, candidate->id(), matches);
+
+    std::vector<cv::Point3d> object;
+    std::vector<cv::Point2d> image;
+    std::vector<int> index;
+    for (int i = 0; i < frame.size(); ++i) {
+      const MapPoint* p = frame.map_points[static_cast<std::size_t>(i)];
+      if (p == nullptr) continue;
+      object.emplace_back(p->position().x(), p->position().y(), p->position().z());
+      image.emplace_back(keypoints.undistorted(i).x(), keypoints.undistorted(i).y());
+      index.push_back(i);
+    }
+    cv::Mat rvec, tvec;
+    std::vector<int> inliers;
+    if (!cv::solvePnPRansac(object, image, K, cv::noArray(), rvec, tvec, false, 300, 4.0F, 0.99, inliers,
+                            cv::SOLVEPNP_EPNP) ||
+        static_cast<int>(inliers.size()) < kMinFirstEstimateInliers) {
+      continue;
+    }
+    cv::Mat R;
+    cv::Rodrigues(rvec, R);
+    Eigen::Matrix3d rotation;
+    Eigen::Vector3d translation;
+    cv::cv2eigen(R, rotation);
+    cv::cv2eigen(tvec, translation);
+    frame.T_cw.linear() = rotation;
+    frame.T_cw.translation() = translation;
+    // Only the RANSAC inliers go on to the pose optimisation.
+    std::vector<MapPoint*> kept(frame.map_points.size(), nullptr);
+    for (const int k : inliers) {
+      const auto i = static_cast<std::size_t>(index[static_cast<std::size_t>(k)]);
+      kept[i] = frame.map_points[i];
+    }
+    frame.map_points = std::move(kept);
+    int good = OptimizeFramePose(frame, true);
+    if (good < kMinFirstEstimateInliers) continue;
+    if (good < options_.min_inliers_after_relocalization) {
+      // More matches from the candidate's points projected with the estimate.
+      std::vector<ProjectedPoint> projected;
+      for (MapPoint* p : candidate->map_points()) {
+        ProjectedPoint candidate_point;
+        if (p != nullptr && !p->bad() &&
+            std::find(frame.map_points.begin(), frame.map_points.end(), p) == frame.map_points.end() &&
+            ProjectIntoFrame(*p, frame.T_cw, keypoints.sensor(), 0.0, candidate_point)) {
+          projected.push_back(candidate_point);
+        }
+      }
+      SearchByProjection(frame, projected, 4.0);
+      good = OptimizeFramePose(frame, true);
+    }
+    spdlog::debug("frame {}: relocalisation candidate keyframe {}: {} PnP inliers, {} after optimisation", frame.id,
+                  candidate->id(), inliers.size(), good);
+    if (good >= options_.min_inliers_after_relocalization) {
+      frame.reference_keyframe = candidate;
+      return true;
+    }
+  }
+  ClearMatches(frame);
+  return false;
+}
+
+}  // namespace hoidslam::slam

@@ -1,0 +1,107 @@
+#pragma once
+// Tracking: the pose of every frame from the map, ORB-SLAM's RGB-D way. The first frame with enough keypoints
+// with depth starts the map. After that each frame is tracked by a constant-velocity prediction with a search by
+// projection from the last frame, or, when that fails, by descriptor matching against the reference keyframe; the
+// pose is then refined against the local map (the keyframes sharing points with the frame and their neighbours).
+// A lost frame is relocalised by descriptor matching against keyframes and PnP RANSAC. The tracker decides when a
+// frame becomes a keyframe and hands it to local mapping.
+//
+// The frames it is given hold only the keypoints the exclusion filter kept, so dropped keypoints take part in
+// nothing: matching, optimisation, new map points and relocalisation never see them.
+
+#include <cstdint>
+#include <optional>
+#include <string_view>
+#include <vector>
+
+#include "hoidslam/slam/frame.h"
+#include "hoidslam/slam/local_mapper.h"
+#include "hoidslam/slam/map.h"
+#include "hoidslam/slam/pose_optimizer.h"
+
+namespace hoidslam::slam {
+
+enum class TrackingState { kNotInitialized, kOk, kLost };
+std::string_view ToString(TrackingState state);
+
+// How a frame's first pose estimate was found.
+enum class TrackingMethod { kNone, kInitialization, kMotionModel, kReferenceKeyFrame, kRelocalization };
+std::string_view ToString(TrackingMethod method);
+
+struct TrackerOptions {
+  // Keypoints with depth a frame needs to start the map. ORB-SLAM asks for 500 keypoints; a room whose back wall
+  // is beyond the sensor's range, with people's features dropped, can have fewer with depth in every frame.
+  int min_initial_points = 300;
+  double motion_search_radius = 7.0;   // pixels at level 0, search by projection from the last frame
+  double local_search_radius = 3.0;    // pixels at level 0 (before the oblique-view factor), local-map search
+  int min_inliers = 30;                // local-map inliers for a frame to count as tracked
+  int min_inliers_after_relocalization = 50;  // the same during the first second after relocalising
+  int max_local_keyframes = 80;
+  int keyframe_max_interval = 30;      // frames; a keyframe at least this often (ORB-SLAM: the frame rate)
+  // A new keyframe makes map points of all its untracked close keypoints and, nearest first, of far ones until it
+  // has made this many. ORB-SLAM makes 100; with people's features dropped, far structure (walls beyond ThDepth)
+  // is often all that is left, and more far points keep tracking alive there (walking_rpy: 6.0 → 4.0 mm).
+  int keyframe_min_new_points = 1000;
+  int relocalization_candidates = 10;  // keyframes tried per lost frame, besides the last reference's neighbours
+  PoseOptimizerOptions pose_optimizer;
+
+  void Check() const;
+};
+
+struct TrackResult {
+  TrackingState state = TrackingState::kNotInitialized;
+  TrackingMethod method = TrackingMethod::kNone;
+  int keypoints = 0;  // the frame's keypoints (after the exclusion filter)
+  int matched = 0;    // keypoints matched to map points before the final pose optimisation
+  int inliers = 0;    // of those, kept by it
+  bool keyframe = false;  // the frame became a keyframe
+  std::optional<core::Pose> T_cw;  // when tracked
+};
+
+class Tracker {
+ public:
+  Tracker(Map& map, LocalMapper& local_mapper, const TrackerOptions& options);
+
+  // Tracks the next frame (frame ids increase by one from 0). Takes the map's lock as map.h describes.
+  TrackResult Track(Frame frame);
+
+  // Where each frame stands, to place it once the map has been refined (as ORB-SLAM saves trajectories): its pose
+  // relative to its reference keyframe. Lost frames have no reference.
+  struct FrameRecord {
+    double timestamp = 0.0;
+    KeyFrame* reference = nullptr;
+    core::Pose T_cr = core::Pose::Identity();
+  };
+  const std::vector<FrameRecord>& records() const { return records_; }
+
+ private:
+  bool Initialize(Frame& frame);
+  bool TrackWithMotionModel(Frame& frame);
+  bool TrackReferenceKeyFrame(Frame& frame);
+  bool Relocalize(Frame& frame);
+  // Refines frame.T_cw from its matches; clears outlier matches when `drop_outliers`; returns the inliers.
+  int OptimizeFramePose(Frame& frame, bool drop_outliers);
+  // Refines the pose against the local map; fills result.matched / inliers; true when enough inliers remain.
+  bool TrackLocalMap(Frame& frame, TrackResult& result);
+  std::vector<KeyFrame*> LocalKeyFrames(Frame& frame) const;
+  bool NeedNewKeyFrame(const Frame& frame, int inliers) const;
+  void CreateKeyFrame(Frame& frame);
+
+  Map& map_;
+  LocalMapper& local_mapper_;
+  TrackerOptions options_;
+
+  TrackingState state_ = TrackingState::kNotInitialized;
+  std::optional<Frame> last_frame_;
+  KeyFrame* last_keyframe_ = nullptr;
+  KeyFrame* reference_keyframe_ = nullptr;
+  // The last measured motion, T_cl (last camera to current camera), and the time it took: a prediction scales it
+  // to the time since the last frame, so a dropped frame (TUM recordings have them) does not break the motion model.
+  std::optional<core::Pose> velocity_;
+  double velocity_seconds_ = 0.0;
+  std::uint64_t last_keyframe_frame_id_ = 0;
+  std::optional<std::uint64_t> last_relocalization_frame_id_;
+  std::vector<FrameRecord> records_;
+};
+
+}  // namespace hoidslam::slam
