@@ -1,6 +1,7 @@
 // `hoidslam run`: RGB-D SLAM over a sequence with the features of people and of the objects they handle
 // dropped before tracking. Writes the trajectory, the keyframes, the sparse map and a per-frame log, and, when
 // the sequence has ground truth, prints its ATE and RPE (docs/slam.md).
+#include <cstdio>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -172,6 +173,7 @@ void RunRun(const RunArgs& args) {
   fmt::print("wrote {}/ (trajectory.txt, keyframes.txt, map.ply, frames.jsonl, summary.json)\n", out.path().string());
   if (summary.interrupted) {
     spdlog::warn("interrupted after {} of {} frames; the outputs hold the frames done", summary.frames, sequence.size());
+    std::fflush(stdout);  // the signal raised again ends the process without flushing the summary printed above
     interrupts.Reraise();
   }
 }

@@ -7,24 +7,12 @@
 #include <gtest/gtest.h>
 #include <opencv2/calib3d.hpp>
 
+#include "support/geometry.h"
+
 namespace hoidslam::features {
 namespace {
 
 // The Bonn RGB-D Dynamic camera, as in config/Bonn.yaml.
-core::CameraIntrinsics BonnCamera() {
-  core::CameraIntrinsics c;
-  c.fx = 542.822841;
-  c.fy = 542.576870;
-  c.cx = 315.593520;
-  c.cy = 237.756098;
-  c.k1 = 0.039903;
-  c.k2 = -0.099343;
-  c.p1 = -0.000730;
-  c.p2 = -0.000144;
-  c.k3 = 0.0;
-  return c;
-}
-
 // Pixels over the whole 640×480 image, corners included.
 std::vector<cv::Point2f> Grid() {
   std::vector<cv::Point2f> points;
@@ -48,11 +36,11 @@ TEST(UndistortKeypoints, WithoutDistortionReturnsThePositions) {
   const std::vector<cv::Point2f> points = Grid();
   EXPECT_EQ(UndistortKeypoints(KeypointsAt(points), camera), points);
   EXPECT_TRUE(UndistortKeypoints({}, camera).empty());
-  EXPECT_TRUE(UndistortKeypoints({}, BonnCamera()).empty());
+  EXPECT_TRUE(UndistortKeypoints({}, testing::BonnIntrinsics()).empty());
 }
 
 TEST(UndistortKeypoints, InvertsTheBonnDistortion) {
-  const core::CameraIntrinsics camera = BonnCamera();
+  const core::CameraIntrinsics camera = testing::BonnIntrinsics();
   const cv::Matx33d k(camera.fx, 0.0, camera.cx, 0.0, camera.fy, camera.cy, 0.0, 0.0, 1.0);
   const std::vector<double> distortion = {camera.k1, camera.k2, camera.p1, camera.p2, camera.k3};
 

@@ -11,6 +11,7 @@
 #include <opencv2/calib3d.hpp>
 
 #include "hoidslam/slam/sensor.h"
+#include "support/geometry.h"
 
 namespace hoidslam::slam {
 namespace {
@@ -22,20 +23,6 @@ std::shared_ptr<const Sensor> MakeSensor(const core::CameraIntrinsics& intrinsic
 }
 
 // The Bonn camera (config/Bonn.yaml), with its lens distortion.
-core::CameraIntrinsics BonnIntrinsics() {
-  core::CameraIntrinsics c;
-  c.fx = 542.822841;
-  c.fy = 542.576870;
-  c.cx = 315.593520;
-  c.cy = 237.756098;
-  c.k1 = 0.039903;
-  c.k2 = -0.099343;
-  c.p1 = -0.000730;
-  c.p2 = -0.000144;
-  c.k3 = 0.0;
-  return c;
-}
-
 cv::KeyPoint Kp(float x, float y, int level = 0, float angle = 0.0F) { return {x, y, 31.0F, angle, 1.0F, level}; }
 
 // Descriptor i: every byte equal to i, so rows are told apart.
@@ -181,7 +168,7 @@ void ExpectGridMatchesBruteForce(const std::shared_ptr<const Sensor>& sensor, st
 TEST(KeypointSet, FeaturesInAreaEqualsBruteForce) { ExpectGridMatchesBruteForce(MakeSensor(), 7); }
 
 TEST(KeypointSet, FeaturesInAreaEqualsBruteForceWithDistortion) {
-  ExpectGridMatchesBruteForce(MakeSensor(BonnIntrinsics()), 11);
+  ExpectGridMatchesBruteForce(MakeSensor(testing::BonnIntrinsics()), 11);
 }
 
 TEST(KeypointSet, FeaturesInAreaFiltersLevels) {
@@ -224,7 +211,7 @@ TEST(Sensor, UndistortedBoundsWithoutDistortionAreTheImage) {
 }
 
 TEST(Sensor, DistortedBoundsEncloseTheUndistortedBorder) {
-  const core::CameraIntrinsics c = BonnIntrinsics();
+  const core::CameraIntrinsics c = testing::BonnIntrinsics();
   const auto s = MakeSensor(c);
   // Bonn's lens pushes the corners slightly outwards when undistorted: the bounds leave [0, 640) × [0, 480), by a
   // few pixels, not more.
@@ -260,7 +247,7 @@ TEST(Sensor, DistortedBoundsEncloseTheUndistortedBorder) {
 }
 
 TEST(KeypointSet, DistortedKeypointsAreUndistortedButSampleDepthWhereSeen) {
-  const auto sensor = MakeSensor(BonnIntrinsics());
+  const auto sensor = MakeSensor(testing::BonnIntrinsics());
   cv::Mat depth = EmptyDepth();
   depth.at<float>(5, 5) = 2.0F;
   const KeypointSet set = MakeSet(sensor, {Kp(5, 5), Kp(315.59F, 237.76F)}, depth);

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "hoidslam/features/orb_extractor.h"
+#include "support/geometry.h"
 
 namespace hoidslam::slam {
 namespace {
@@ -17,16 +18,8 @@ std::shared_ptr<const Sensor> MakeSensor() {
   return Sensor::Make(core::CameraIntrinsics{}, 40.0, 3.0, features::ScalePyramid::Make(8, 1.2));
 }
 
-core::Pose MakePose(const Eigen::Vector3d& axis_angle, const Eigen::Vector3d& t) {
-  core::Pose T = core::Pose::Identity();
-  const double angle = axis_angle.norm();
-  if (angle > 0.0) T.linear() = Eigen::AngleAxisd(angle, axis_angle / angle).toRotationMatrix();
-  T.translation() = t;
-  return T;
-}
-
 // A camera at centre `c` with no rotation, as T_cw.
-core::Pose AtCentre(const Eigen::Vector3d& c) { return MakePose(Eigen::Vector3d::Zero(), -c); }
+core::Pose AtCentre(const Eigen::Vector3d& c) { return testing::PoseFromAxisAngle(Eigen::Vector3d::Zero(), -c); }
 
 struct KeypointSpec {
   int n = 100;
@@ -285,11 +278,11 @@ TEST_F(MapTest, AKeyFrameConnectedLateNeverTakesItsOwnChildAsParent) {
 }
 
 TEST_F(MapTest, EraseKeyFrameReparentsChildrenAndKeepsRelativePose) {
-  KeyFrame* kf0 = AddKeyFrame(MakePose({0.1, -0.2, 0.05}, {0.3, 0.1, -0.2}), Spec(200));
-  KeyFrame* kf1 = AddKeyFrame(MakePose({-0.3, 0.1, 0.2}, {0.5, -0.4, 0.1}), Spec(200));
-  KeyFrame* kf2 = AddKeyFrame(MakePose({0.0, 0.4, 0.0}, {1.0, 0.0, 0.3}), Spec(200));
-  KeyFrame* kf3 = AddKeyFrame(MakePose({0.2, 0.0, -0.1}, {0.0, 0.2, 0.4}), Spec(200));
-  KeyFrame* kf4 = AddKeyFrame(MakePose({0.0, 0.0, 0.3}, {0.1, 0.1, 0.1}), Spec(200));
+  KeyFrame* kf0 = AddKeyFrame(testing::PoseFromAxisAngle({0.1, -0.2, 0.05}, {0.3, 0.1, -0.2}), Spec(200));
+  KeyFrame* kf1 = AddKeyFrame(testing::PoseFromAxisAngle({-0.3, 0.1, 0.2}, {0.5, -0.4, 0.1}), Spec(200));
+  KeyFrame* kf2 = AddKeyFrame(testing::PoseFromAxisAngle({0.0, 0.4, 0.0}, {1.0, 0.0, 0.3}), Spec(200));
+  KeyFrame* kf3 = AddKeyFrame(testing::PoseFromAxisAngle({0.2, 0.0, -0.1}, {0.0, 0.2, 0.4}), Spec(200));
+  KeyFrame* kf4 = AddKeyFrame(testing::PoseFromAxisAngle({0.0, 0.0, 0.3}, {0.1, 0.1, 0.1}), Spec(200));
   // The tree kf0 ← kf1 ← {kf2, kf3, kf4}.
   SharePoints(kf0, kf1, 0, 20);
   map_.UpdateConnections(kf1);

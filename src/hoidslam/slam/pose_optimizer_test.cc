@@ -1,4 +1,5 @@
 #include "hoidslam/slam/pose_optimizer.h"
+#include "support/geometry.h"
 
 #include <cmath>
 #include <cstdint>
@@ -25,19 +26,11 @@ struct Scene {
   std::vector<KeypointMeasurement> measurements;
 };
 
-core::Pose MakePose(const Eigen::Vector3d& axis_angle, const Eigen::Vector3d& t) {
-  core::Pose T = core::Pose::Identity();
-  const double angle = axis_angle.norm();
-  if (angle > 0.0) T.linear() = Eigen::AngleAxisd(angle, axis_angle / angle).toRotationMatrix();
-  T.translation() = t;
-  return T;
-}
-
 // `n` points 1-6 m in front of a camera at T_cw_true, seen with `pixel_noise` (σ in pixels at level 0), a
 // `depth_fraction` of them with depth.
 Scene MakeScene(int n, double depth_fraction, double pixel_noise, std::uint32_t seed) {
   Scene s;
-  s.T_cw_true = MakePose(Eigen::Vector3d(0.1, -0.3, 0.05), Eigen::Vector3d(0.4, -0.2, 1.0));
+  s.T_cw_true = testing::PoseFromAxisAngle(Eigen::Vector3d(0.1, -0.3, 0.05), Eigen::Vector3d(0.4, -0.2, 1.0));
   const core::Pose T_wc = s.T_cw_true.inverse();
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -70,7 +63,7 @@ double TranslationError(const core::Pose& a, const core::Pose& b) {
 
 // The true pose moved by ~3° and ~10 cm.
 core::Pose Perturbed(const core::Pose& T) {
-  return MakePose(Eigen::Vector3d(2.0, -1.5, 1.0) * kDeg, Eigen::Vector3d(0.06, -0.05, 0.07)) * T;
+  return testing::PoseFromAxisAngle(Eigen::Vector3d(2.0, -1.5, 1.0) * kDeg, Eigen::Vector3d(0.06, -0.05, 0.07)) * T;
 }
 
 TEST(OptimizePose, RecoversPoseFromNoiseFreeData) {
@@ -163,7 +156,7 @@ TEST(OptimizePose, PreviousOutliersAreClassifiedAgain) {
   // outliers; the later rounds bring the pose, and so them, back.
   const Scene s = MakeScene(200, 0.7, 0.0, 7);
   const core::Pose start =
-      MakePose(Eigen::Vector3d(4.0, 8.0, -4.0) * kDeg, Eigen::Vector3d(0.1, 0.2, -0.1)) * s.T_cw_true;
+      testing::PoseFromAxisAngle(Eigen::Vector3d(4.0, 8.0, -4.0) * kDeg, Eigen::Vector3d(0.1, 0.2, -0.1)) * s.T_cw_true;
   PoseOptimizerOptions options;
   options.iterations_per_round = 1;
   options.rounds = 1;
