@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Sets up hoidslam on Debian 12 from nothing: installs the build dependencies from Debian's packages,
-# builds the Release binaries into build/, and runs the main job on data that needs no download.
+# builds the Release binaries into build/, and runs the main job on data that needs no download. Chromium (the
+# report test opens the HTML report headless) and GNU parallel (bench sweeps across cores or machines) are
+# Debian packages too.
 #
 #   scripts/setup.sh            install + build + run the main job
 #   scripts/setup.sh --no-run   install + build only (used by CI and scripts/test.sh)
@@ -18,6 +20,7 @@ packages=(
   libopencv-dev libeigen3-dev libceres-dev
   libcli11-dev nlohmann-json3-dev libspdlog-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  chromium parallel
 )
 
 missing=()
