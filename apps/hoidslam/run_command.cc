@@ -37,6 +37,9 @@ struct RunArgs {
   OnnxArgs onnx;
   std::string detections;  // detections file; default <dataset>/detections.jsonl
   std::string filter;      // overrides HOID.mode
+  std::optional<double> min_interaction_area;  // overrides HOID.minInteractionArea
+  std::optional<double> depth_threshold;       // overrides HOID.depthThreshold
+  std::size_t snapshots = pipeline::RunOptions{}.snapshots;
   std::string out;
   std::size_t frames = 0;
   bool deterministic = false;
@@ -93,6 +96,17 @@ double MedianMs(const std::vector<pipeline::StageTimes>& times, const std::funct
   return values.empty() ? 0.0 : eval::ComputeStatistics(values).median;
 }
 
+// Against the ground-truth moving masks: null when the sequence has none.
+nlohmann::json ExclusionQualityJson(const std::optional<pipeline::ExclusionCounts>& counts) {
+  if (!counts) return nullptr;
+  return {{"leaked", counts->Leaked()},
+          {"wasted", counts->Wasted()},
+          {"moving_kept", counts->moving_kept},
+          {"moving_dropped", counts->moving_dropped},
+          {"static_kept", counts->static_kept},
+          {"static_dropped", counts->static_dropped}};
+}
+
 nlohmann::json SummaryJson(const pipeline::RunSummary& s, const std::string& sequence, const std::string& mode,
                            const std::string& detector) {
   const auto median = [&](double pipeline::StageTimes::*stage) { return MedianMs(s.times, std::mem_fn(stage)); };
@@ -109,6 +123,7 @@ nlohmann::json SummaryJson(const pipeline::RunSummary& s, const std::string& seq
           {"keypoints_extracted", s.keypoints_extracted},
           {"keypoints_dropped", s.keypoints_dropped},
           {"interrupted", s.interrupted},
+          {"exclusion_quality", ExclusionQualityJson(s.exclusion)},
           {"median_ms",
            {{"load", median(&pipeline::StageTimes::load)},
             {"extract", median(&pipeline::StageTimes::extract)},
@@ -124,6 +139,9 @@ void RunRun(const RunArgs& args) {
   pipeline::RunOptions options = pipeline::RunOptions::FromSettings(settings.value_or(io::Settings{}));
   if (!settings) spdlog::debug("no --settings: the TUM fr3 camera and the default ORB and HOID settings");
   if (!args.filter.empty()) pipeline::SetFilterMode(args.filter, options.exclusion, "--filter");
+  if (args.min_interaction_area) options.exclusion.hoid.min_interaction_area = *args.min_interaction_area;
+  if (args.depth_threshold) options.exclusion.hoid.depth_threshold = *args.depth_threshold;
+  options.snapshots = args.snapshots;
   options.system.deterministic = args.deterministic;
   options.max_frames = args.frames;
   options.system.Check();
@@ -164,13 +182,19 @@ void RunRun(const RunArgs& args) {
   fmt::print("keypoints: {} extracted, {} dropped by the filter ({:.1f} %)\n", summary.keypoints_extracted,
              summary.keypoints_dropped,
              summary.keypoints_extracted == 0 ? 0.0 : 100.0 * summary.keypoints_dropped / summary.keypoints_extracted);
+  if (summary.exclusion) {
+    fmt::print("against the moving masks: {:.1f} % of the keypoints on moving things kept (leaked), {:.1f} % of the "
+               "static ones dropped (wasted)\n",
+               100.0 * summary.exclusion->Leaked(), 100.0 * summary.exclusion->Wasted());
+  }
   const nlohmann::json& ms = json["median_ms"];
   fmt::print("median ms per frame: load {:.2f}, extract {:.2f}, detect {:.2f}, filter {:.3f}, track {:.2f}; "
              "tracking (extract + filter + track) {:.2f}\n",
              ms["load"].get<double>(), ms["extract"].get<double>(), ms["detect"].get<double>(),
              ms["filter"].get<double>(), ms["track"].get<double>(), ms["tracking_total"].get<double>());
   if (evaluation) fmt::print("{}", eval::FormatEvaluation(*evaluation));
-  fmt::print("wrote {}/ (trajectory.txt, keyframes.txt, map.ply, frames.jsonl, summary.json)\n", out.path().string());
+  fmt::print("wrote {}/ (trajectory.txt, keyframes.txt, map.ply, frames.jsonl, summary.json, snapshots/)\n",
+             out.path().string());
   if (summary.interrupted) {
     spdlog::warn("interrupted after {} of {} frames; the outputs hold the frames done", summary.frames, sequence.size());
     std::fflush(stdout);  // the signal raised again ends the process without flushing the summary printed above
@@ -200,6 +224,17 @@ void AddRunCommand(CLI::App& app) {
   command->add_option("--filter", args->filter,
                       "What is dropped: none, person, classes, hoid2d, hoid3d, or oracle (the ground-truth moving "
                       "masks of a synthetic sequence); default: HOID.mode of the settings, else hoid2d");
+  command->add_option("--min-interaction-area", args->min_interaction_area,
+                      "Overrides HOID.minInteractionArea: the share of an object's box a person's box must cover "
+                      "for the object to count as handled (0..1]")
+      ->check(CLI::PositiveNumber & CLI::Range(0.0, 1.0));
+  command->add_option("--depth-threshold", args->depth_threshold,
+                      "Overrides HOID.depthThreshold: the largest depth difference (m) between a handled object and "
+                      "its person in hoid3d")
+      ->check(CLI::PositiveNumber);
+  command->add_option("--snapshots", args->snapshots,
+                      "Annotated frames written to <out>/snapshots/, spread evenly over the run")
+      ->capture_default_str();
   command->add_option("--out", args->out, "Output folder (created complete or not at all)")->required();
   command->add_option("--frames", args->frames, "Run only the first N frames (0 = all)")->capture_default_str();
   command->add_flag("--deterministic", args->deterministic,

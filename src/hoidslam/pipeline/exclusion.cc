@@ -26,16 +26,69 @@ void SetFilterMode(std::string_view text, ExclusionOptions& options, const std::
   options.oracle = false;
 }
 
+double ExclusionCounts::Leaked() const {
+  const std::size_t moving = moving_kept + moving_dropped;
+  return moving == 0 ? 0.0 : static_cast<double>(moving_kept) / static_cast<double>(moving);
+}
+
+double ExclusionCounts::Wasted() const {
+  const std::size_t still = static_kept + static_dropped;
+  return still == 0 ? 0.0 : static_cast<double>(static_dropped) / static_cast<double>(still);
+}
+
+ExclusionCounts& ExclusionCounts::operator+=(const ExclusionCounts& other) {
+  moving_kept += other.moving_kept;
+  moving_dropped += other.moving_dropped;
+  static_kept += other.static_kept;
+  static_dropped += other.static_dropped;
+  return *this;
+}
+
+bool OnMask(const cv::Mat& mask, const cv::KeyPoint& keypoint) {
+  const int x = static_cast<int>(std::lround(keypoint.pt.x));
+  const int y = static_cast<int>(std::lround(keypoint.pt.y));
+  return x >= 0 && y >= 0 && x < mask.cols && y < mask.rows && mask.at<std::uint8_t>(y, x) != 0;
+}
+
 KeypointExclusion::KeypointExclusion(const ExclusionOptions& options, const std::filesystem::path& sequence_root)
     : options_(options) {
   options_.hoid.Check();
-  if (options_.oracle) {
+  if (std::filesystem::is_directory(sequence_root / "mask")) {
     mask_folder_ = sequence_root / "mask";
-    if (!std::filesystem::is_directory(mask_folder_)) {
-      throw core::InputError::InFile(
-          mask_folder_, "not found: --filter oracle needs the ground-truth moving masks of a `hoidslam synth` sequence");
+  } else if (options_.oracle) {
+    throw core::InputError::InFile(
+        sequence_root / "mask",
+        "not found: --filter oracle needs the ground-truth moving masks of a `hoidslam synth` sequence");
+  }
+}
+
+const cv::Mat& KeypointExclusion::MovingMask(const core::RgbdFrame& frame) const {
+  // The mask has the colour image's name: mask/<t>.png beside rgb/<t>.png.
+  const std::filesystem::path mask_path = mask_folder_ / std::filesystem::path(frame.rgb_path).filename();
+  if (mask_path == cached_mask_path_) return cached_mask_;
+  cv::Mat mask = io::ReadImage(mask_path, cv::IMREAD_GRAYSCALE, "moving mask");
+  if (mask.size() != frame.rgb.size()) {
+    throw core::InputError::InFile(mask_path, fmt::format("is {}×{}, the frame {}×{}", mask.cols, mask.rows,
+                                                          frame.rgb.cols, frame.rgb.rows));
+  }
+  cached_mask_ = std::move(mask);
+  cached_mask_path_ = mask_path;
+  return cached_mask_;
+}
+
+ExclusionCounts KeypointExclusion::Score(const core::RgbdFrame& frame, std::span<const cv::KeyPoint> keypoints,
+                                         std::span<const std::uint8_t> keep) const {
+  const cv::Mat& mask = MovingMask(frame);
+  ExclusionCounts counts;
+  for (std::size_t i = 0; i < keypoints.size(); ++i) {
+    const bool kept = keep[i] != 0;
+    if (OnMask(mask, keypoints[i])) {
+      ++(kept ? counts.moving_kept : counts.moving_dropped);
+    } else {
+      ++(kept ? counts.static_kept : counts.static_dropped);
     }
   }
+  return counts;
 }
 
 void KeypointExclusion::Mark(const core::RgbdFrame& frame, std::span<const core::Detection> detections,
@@ -48,19 +101,9 @@ void KeypointExclusion::Mark(const core::RgbdFrame& frame, std::span<const core:
     hoid::MarkKeypointsToKeep(keypoints, detections, decisions, keep);
     return;
   }
-  // The mask has the colour image's name: mask/<t>.png beside rgb/<t>.png.
-  const std::filesystem::path mask_path = mask_folder_ / std::filesystem::path(frame.rgb_path).filename();
-  const cv::Mat mask = io::ReadImage(mask_path, cv::IMREAD_GRAYSCALE, "moving mask");
-  if (mask.size() != frame.rgb.size()) {
-    throw core::InputError::InFile(mask_path, fmt::format("is {}×{}, the frame {}×{}", mask.cols, mask.rows,
-                                                          frame.rgb.cols, frame.rgb.rows));
-  }
-  keep.assign(keypoints.size(), 1);
-  for (std::size_t i = 0; i < keypoints.size(); ++i) {
-    const int x = static_cast<int>(std::lround(keypoints[i].pt.x));
-    const int y = static_cast<int>(std::lround(keypoints[i].pt.y));
-    if (x >= 0 && y >= 0 && x < mask.cols && y < mask.rows && mask.at<std::uint8_t>(y, x) != 0) keep[i] = 0;
-  }
+  const cv::Mat& mask = MovingMask(frame);
+  keep.resize(keypoints.size());
+  for (std::size_t i = 0; i < keypoints.size(); ++i) keep[i] = OnMask(mask, keypoints[i]) ? 0 : 1;
 }
 
 }  // namespace hoidslam::pipeline

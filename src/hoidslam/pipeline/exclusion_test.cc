@@ -99,6 +99,43 @@ TEST(KeypointExclusion, OracleDropsExactlyTheMaskedKeypointsAndIgnoresBoxes) {
   for (const hoid::Decision& d : decisions) EXPECT_FALSE(d.dynamic);
 }
 
+TEST(KeypointExclusion, ScoresAnyModeAgainstTheMovingMask) {
+  testing::TempDir dir;
+  std::filesystem::create_directories(dir / "mask");
+  cv::Mat mask(480, 640, CV_8UC1, cv::Scalar(0));
+  mask(cv::Rect(140, 190, 20, 20)).setTo(255);  // the person moves, the cup in hand does not
+  cv::imwrite((dir / "mask" / "1.000000.png").string(), mask);
+
+  ExclusionOptions options;
+  SetFilterMode("hoid2d", options);
+  const KeypointExclusion exclusion(options, dir.path());
+  ASSERT_TRUE(exclusion.CanScore());
+  std::vector<std::uint8_t> keep;
+  std::vector<hoid::Decision> decisions;
+  exclusion.Mark(Frame(), kDetections, kKeypoints, keep, decisions);
+  const ExclusionCounts counts = exclusion.Score(Frame(), kKeypoints, keep);
+  EXPECT_EQ(counts.moving_dropped, 1U);  // the person
+  EXPECT_EQ(counts.moving_kept, 0U);
+  EXPECT_EQ(counts.static_dropped, 1U);  // the cup
+  EXPECT_EQ(counts.static_kept, 2U);
+  EXPECT_DOUBLE_EQ(counts.Leaked(), 0.0);
+  EXPECT_DOUBLE_EQ(counts.Wasted(), 1.0 / 3.0);
+
+  ExclusionCounts total;
+  total += counts;
+  total += exclusion.Score(Frame(), kKeypoints, std::vector<std::uint8_t>{1, 1, 1, 1});  // mode none
+  EXPECT_DOUBLE_EQ(total.Leaked(), 0.5);
+  EXPECT_DOUBLE_EQ(total.Wasted(), 1.0 / 6.0);
+}
+
+TEST(KeypointExclusion, WithoutMasksThereIsNothingToScore) {
+  ExclusionOptions options;
+  SetFilterMode("hoid2d", options);
+  EXPECT_FALSE(KeypointExclusion(options, ".").CanScore());
+  EXPECT_DOUBLE_EQ(ExclusionCounts{}.Leaked(), 0.0);
+  EXPECT_DOUBLE_EQ(ExclusionCounts{}.Wasted(), 0.0);
+}
+
 TEST(KeypointExclusion, OracleWithoutMasksIsAnErrorNamingTheFolder) {
   testing::TempDir dir;
   ExclusionOptions options;

@@ -4,6 +4,7 @@
 #include <optional>
 #include <string>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
@@ -13,6 +14,8 @@
 #include "hoidslam/io/atomic_file.h"
 #include "hoidslam/io/ply_file.h"
 #include "hoidslam/io/trajectory_file.h"
+#include "hoidslam/hoid/explain.h"
+#include "hoidslam/report/annotate.h"
 
 namespace hoidslam::pipeline {
 namespace {
@@ -43,6 +46,27 @@ nlohmann::json DynamicDetections(const std::vector<core::Detection>& detections,
   return list;
 }
 
+// Whether frame `index` of `total` is one of `count` snapshots: the middles of `count` equal parts of the run.
+bool IsSnapshot(std::size_t index, std::size_t total, std::size_t count) {
+  for (std::size_t k = 0; k < count && k < total; ++k) {
+    if ((2 * k + 1) * total / (2 * count) == index) return true;
+  }
+  return false;
+}
+
+void WriteSnapshot(const std::filesystem::path& path, const core::RgbdFrame& frame,
+                   const std::vector<core::Detection>& detections, const std::vector<hoid::Decision>& decisions,
+                   const std::vector<cv::KeyPoint>& keypoints, const std::vector<std::uint8_t>& keep) {
+  std::vector<report::BoxAnnotation> annotations;
+  annotations.reserve(detections.size());
+  for (std::size_t i = 0; i < detections.size(); ++i) {
+    annotations.push_back({detections[i].box, hoid::CaptionDecision(detections[i], decisions[i]), decisions[i].dynamic});
+  }
+  cv::Mat image = report::DrawBoxAnnotations(frame.rgb, annotations);
+  report::DrawKeptAndDropped(image, keypoints, keep);
+  io::WriteImageAtomically(path, image);
+}
+
 }  // namespace
 
 RunOptions RunOptions::FromSettings(const io::Settings& settings) {
@@ -63,10 +87,12 @@ RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detec
   spdlog::info("{}: {} frames, filter {}, detector {}{}", sequence.name(), sequence.size(),
                options.exclusion.ModeName(), detector.Name(), options.system.deterministic ? ", deterministic" : "");
   io::AtomicFile log(folder / "frames.jsonl");
+  if (options.snapshots > 0) std::filesystem::create_directories(folder / "snapshots");
 
   const std::size_t total = options.max_frames == 0 ? sequence.size() : std::min(options.max_frames, sequence.size());
   RunSummary summary;
   summary.times.reserve(total);
+  if (exclusion.CanScore()) summary.exclusion.emplace();
   core::ProgressReporter progress("run", total);
   std::vector<core::Detection> detections;  // kept across frames: a failed frame reuses the last ones
   std::vector<hoid::Decision> decisions;
@@ -104,6 +130,18 @@ RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detec
     exclusion.Mark(frame, detections, features.keypoints, keep, decisions);
     times.filter = clock.ElapsedMilliseconds();
     const auto kept = static_cast<std::size_t>(std::count(keep.begin(), keep.end(), std::uint8_t{1}));
+    if (exclusion.CanScore()) {
+      const ExclusionCounts counts = exclusion.Score(frame, features.keypoints, keep);
+      *summary.exclusion += counts;
+      entry["exclusion"] = {{"moving_kept", counts.moving_kept},
+                            {"moving_dropped", counts.moving_dropped},
+                            {"static_kept", counts.static_kept},
+                            {"static_dropped", counts.static_dropped}};
+    }
+    if (IsSnapshot(index, total, options.snapshots)) {
+      WriteSnapshot(folder / "snapshots" / fmt::format("{:06d}.jpg", index), frame, detections, decisions,
+                    features.keypoints, keep);
+    }
 
     clock.Restart();
     const slam::TrackResult result = system.Track(frame, features, keep);

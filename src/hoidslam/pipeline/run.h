@@ -8,11 +8,16 @@
 //   keyframes.txt   the keyframes, TUM format
 //   map.ply         the sparse map, coloured
 //   frames.jsonl    one JSON object per frame: state, features extracted / dropped / matched / inliers, the
-//                   dynamic detections with their reasons, time of each stage (docs/slam.md has the schema)
+//                   dynamic detections with their reasons, time of each stage, and on a sequence with
+//                   ground-truth moving masks the keypoints kept and dropped on moving and static pixels
+//                   (docs/slam.md has the schema)
+//   snapshots/      a few frames drawn as the filter saw them: boxes coloured by the HOID decision, keypoints
+//                   kept (green) and dropped (red); named by frame index, 000123.jpg
 
 #include <cstddef>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include "hoidslam/detect/detector.h"
@@ -27,6 +32,7 @@ struct RunOptions {
   slam::SystemOptions system;
   ExclusionOptions exclusion;
   std::size_t max_frames = 0;  // 0: the whole sequence
+  std::size_t snapshots = 6;   // annotated frames written, evenly spread over the run
 
   // The camera, depth, ORB and HOID settings of a settings file; the rest at their defaults.
   static RunOptions FromSettings(const io::Settings& settings);
@@ -50,6 +56,7 @@ struct RunSummary {
   std::size_t keypoints_extracted = 0;
   std::size_t keypoints_dropped = 0;
   std::vector<StageTimes> times;     // one per frame
+  std::optional<ExclusionCounts> exclusion;  // over all frames, when the sequence has ground-truth moving masks
   bool interrupted = false;          // stopped early by the caller; the outputs hold the frames done
 };
 

@@ -1,5 +1,6 @@
 #include "hoidslam/pipeline/run.h"
 
+#include <algorithm>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -99,6 +100,28 @@ TEST(RunSequence, TracksEveryFrameAndWritesCompleteOutputs) {
     for (const auto& d : entry["dynamic"]) person_logged |= d["label"] == "person" && d["reason"] == "person";
   }
   EXPECT_TRUE(person_logged);
+
+  // Scored against the synthetic sequence's moving masks, frame by frame and in total.
+  ASSERT_TRUE(summary.exclusion.has_value());
+  EXPECT_GT(summary.exclusion->moving_dropped, 0U);
+  EXPECT_LT(summary.exclusion->Leaked(), 0.2);  // ground-truth boxes cover the people
+  EXPECT_LT(summary.exclusion->Wasted(), 0.2);
+  std::size_t logged_dropped = 0;
+  for (const auto& entry : log) {
+    logged_dropped += entry["exclusion"]["moving_dropped"].get<std::size_t>() +
+                      entry["exclusion"]["static_dropped"].get<std::size_t>();
+  }
+  EXPECT_EQ(logged_dropped, summary.keypoints_dropped);
+
+  // Six annotated frames in the middles of six equal parts of the run.
+  std::vector<std::string> snapshots;
+  for (const auto& file : fs::directory_iterator(dir / "out" / "snapshots")) {
+    snapshots.push_back(file.path().filename().string());
+  }
+  std::sort(snapshots.begin(), snapshots.end());
+  EXPECT_EQ(snapshots, (std::vector<std::string>{"000003.jpg", "000010.jpg", "000016.jpg", "000023.jpg",
+                                                 "000030.jpg", "000036.jpg"}));
+  EXPECT_EQ(cv::imread((dir / "out" / "snapshots" / "000030.jpg").string()).size(), cv::Size(640, 480));
 }
 
 TEST(RunSequence, StopsWhenAskedAndKeepsWhatWasDone) {

@@ -38,4 +38,10 @@ cv::Mat DrawBoxAnnotations(const cv::Mat& bgr, std::span<const BoxAnnotation> an
   return image;
 }
 
+void DrawKeptAndDropped(cv::Mat& image, std::span<const cv::KeyPoint> keypoints, std::span<const std::uint8_t> keep) {
+  for (std::size_t i = 0; i < keypoints.size(); ++i) {
+    cv::circle(image, keypoints[i].pt, 3, keep[i] != 0 ? kStaticColour : kDynamicColour, 1, cv::LINE_AA);
+  }
+}
+
 }  // namespace hoidslam::report

@@ -31,5 +31,16 @@ TEST(DrawBoxAnnotations, BoxesPartlyOutsideTheImageAreClipped) {
   EXPECT_NE(cv::norm(drawn, grey, cv::NORM_INF), 0.0);
 }
 
+TEST(DrawKeptAndDropped, KeptGreenDroppedRed) {
+  cv::Mat image(60, 120, CV_8UC3, cv::Scalar::all(0));
+  const std::vector<cv::KeyPoint> keypoints = {cv::KeyPoint(30, 30, 7), cv::KeyPoint(90, 30, 7)};
+  DrawKeptAndDropped(image, keypoints, std::vector<std::uint8_t>{1, 0});
+  const cv::Vec3b kept = image.at<cv::Vec3b>(30, 33);  // on the ring
+  const cv::Vec3b dropped = image.at<cv::Vec3b>(30, 93);
+  EXPECT_GT(kept[1], kept[2]);
+  EXPECT_GT(dropped[2], dropped[1]);
+  EXPECT_EQ(image.at<cv::Vec3b>(5, 60), cv::Vec3b(0, 0, 0));
+}
+
 }  // namespace
 }  // namespace hoidslam::report
