@@ -1,9 +1,5 @@
 // End-to-end tests of the hoidslam tool as a user runs it: exit status, the one error line on stderr naming the
 // file / line / parameter, and outputs that are complete or absent.
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/wait.h>
-
 #include <algorithm>
 #include <string>
 #include <vector>
@@ -12,11 +8,10 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "cli_test_support.h"
 #include "support/shared_data.h"
 #include "support/temp_dir.h"
 #include "support/text_file.h"
-
-extern char** environ;
 
 namespace hoidslam::apps {
 namespace {
@@ -27,49 +22,6 @@ using ::hoidslam::testing::ReadText;
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 using ::testing::StartsWith;
-
-struct RunResult {
-  int exit_status = -1;
-  std::string out;  // stdout
-  std::string err;  // stderr
-};
-
-
-// Runs the built hoidslam with `args`, stdout and stderr captured in files of `scratch`.
-RunResult RunHoidslam(const testing::TempDir& scratch, const std::vector<std::string>& args) {
-  const fs::path out = scratch / "stdout.txt";
-  const fs::path err = scratch / "stderr.txt";
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_addopen(&actions, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  std::vector<std::string> argv_strings = {HOIDSLAM_BINARY};
-  argv_strings.insert(argv_strings.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (std::string& arg : argv_strings) argv.push_back(arg.data());
-  argv.push_back(nullptr);
-  pid_t pid = 0;
-  const int spawned = posix_spawn(&pid, HOIDSLAM_BINARY, &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  RunResult result;
-  if (spawned != 0) return result;
-  int status = 0;
-  waitpid(pid, &status, 0);
-  result.exit_status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  result.out = ReadText(out);
-  result.err = ReadText(err);
-  return result;
-}
-
-
-// The one line a user sees for bad input: "error: ..." and nothing else on stderr.
-void ExpectOneErrorLine(const RunResult& result, const std::string& names) {
-  EXPECT_EQ(result.exit_status, 1) << result.err;
-  EXPECT_THAT(result.err, StartsWith("error: "));
-  EXPECT_THAT(result.err, HasSubstr(names));
-  EXPECT_EQ(std::count(result.err.begin(), result.err.end(), '\n'), 1) << result.err;
-}
 
 TEST(Cli, NoCommandIsAnErrorAndHelpIsNot) {
   const testing::TempDir scratch;
@@ -255,17 +207,6 @@ TEST(Cli, SynthSequenceIsReadByEval) {
 
 
 // ---- hoidslam run ----------------------------------------------------------------------------------------------
-
-// Renders `frames` frames of a shipped scenario, every `step`-th frame of its camera path.
-fs::path Render(const testing::TempDir& scratch, const std::string& scenario, int frames, int step) {
-  const fs::path sequence = scratch / scenario;
-  const RunResult synth = RunHoidslam(scratch, {"synth", "--scenario", scenario, "--frames", std::to_string(frames * step),
-                                                "--frame-step", std::to_string(step), "--out", sequence.string()});
-  EXPECT_EQ(synth.exit_status, 0) << synth.err;
-  return sequence;
-}
-
-nlohmann::json Summary(const fs::path& out) { return nlohmann::json::parse(ReadText(out / "summary.json")); }
 
 TEST(CliRun, TracksAControlWithNobodyInTheRoomAccurately) {
   const testing::TempDir scratch;

@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
     spdlog::set_level(verbose ? spdlog::level::debug : spdlog::level::info);
   });
 
+  hoidslam::apps::AddBenchCommand(app);
   hoidslam::apps::AddDetectCommand(app);
   hoidslam::apps::AddEvalCommand(app);
   hoidslam::apps::AddRunCommand(app);

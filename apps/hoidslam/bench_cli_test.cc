@@ -1,0 +1,126 @@
+// End-to-end tests of `hoidslam bench`: the direct bench, the same sweep planned and run through GNU parallel,
+// resuming, and failures that must show as failures, never as numbers.
+#include <string>
+#include <vector>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "cli_test_support.h"
+#include "support/temp_dir.h"
+#include "support/text_file.h"
+
+namespace hoidslam::apps {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+// A small sweep: 40 frames of walking_xyz, two modes and one extra interaction area, two runs each, in the
+// deterministic mode so that two benches must agree to the last digit.
+std::vector<std::string> SmallSweep(const fs::path& sequences, const fs::path& out) {
+  return {"bench",          "--scenarios",    "walking_xyz", "--synth-frames", "120",
+          "--synth-frame-step", "3",          "--modes",     "none,hoid2d",    "--runs",
+          "2",              "--area-sweep",   "0.3,0.4",     "--depth-sweep",  "none",
+          "--deterministic", "--jobs",        "2",           "--sequences-dir", sequences.string(),
+          "--out",          out.string()};
+}
+
+nlohmann::json Results(const fs::path& bench) { return nlohmann::json::parse(testing::ReadText(bench / "results.json")); }
+
+// The tables without the one that measures time, which differs from run to run by nature.
+nlohmann::json TablesWithoutTiming(const nlohmann::json& results) {
+  nlohmann::json tables = nlohmann::json::array();
+  for (const nlohmann::json& table : results["tables"]) {
+    if (table["name"] != "timing") tables.push_back(table);
+  }
+  return tables;
+}
+
+const nlohmann::json& Table(const nlohmann::json& results, const std::string& name) {
+  for (const nlohmann::json& table : results["tables"]) {
+    if (table["name"] == name) return table;
+  }
+  throw std::runtime_error("no table " + name);
+}
+
+TEST(CliBench, APlannedSweepRunThroughGnuParallelGivesTheDirectBenchsTables) {
+  const testing::TempDir scratch;
+  const fs::path sequences = scratch / "sequences";
+
+  // Planned: nothing runs yet; GNU parallel renders the scenario, then runs the jobs; --collect builds the tables.
+  std::vector<std::string> plan_args = SmallSweep(sequences, scratch / "planned");
+  plan_args.push_back("--plan");
+  const RunResult plan = RunHoidslam(scratch, plan_args);
+  ASSERT_EQ(plan.exit_status, 0) << plan.err;
+  EXPECT_FALSE(fs::exists(sequences / "walking_xyz-f120-s3"));
+  const std::string jobs = testing::ReadText(scratch / "planned" / "jobs.txt");
+  EXPECT_EQ(std::count(jobs.begin(), jobs.end(), '\n'), 6);  // (none, hoid2d, hoid2d area=0.3) × 2 runs
+  for (const char* list : {"prepare.txt", "jobs.txt"}) {
+    const RunResult parallel = RunProgram(
+        scratch, {HOIDSLAM_PARALLEL, "--will-cite", "--halt", "now,fail=1", "-j", "2", "-a",
+                  (scratch / "planned" / list).string()});
+    ASSERT_EQ(parallel.exit_status, 0) << list << ": " << parallel.err;
+  }
+  const RunResult collect = RunHoidslam(scratch, {"bench", "--collect", "--out", (scratch / "planned").string()});
+  ASSERT_EQ(collect.exit_status, 0) << collect.err;
+  EXPECT_THAT(collect.out, HasSubstr("| walking_xyz |"));
+
+  // Direct, on the sequence rendered above.
+  const RunResult direct = RunHoidslam(scratch, SmallSweep(sequences, scratch / "direct"));
+  ASSERT_EQ(direct.exit_status, 0) << direct.err;
+  EXPECT_THAT(direct.err, HasSubstr("6 runs planned, 6 to run"));
+
+  const nlohmann::json planned = Results(scratch / "planned");
+  const nlohmann::json direct_results = Results(scratch / "direct");
+  EXPECT_EQ(TablesWithoutTiming(planned), TablesWithoutTiming(direct_results));
+  // And the tables hold real numbers: every run finished with an ATE, people leak into `none` only.
+  for (const nlohmann::json& run : direct_results["runs"]) {
+    EXPECT_EQ(run["status"], "ok") << run.dump();
+    EXPECT_LT(run["ate_rmse"].get<double>(), 0.05) << run.dump();
+  }
+  const nlohmann::json& leaked = Table(direct_results, "leaked");
+  EXPECT_EQ(leaked["header"], (nlohmann::json{"sequence", "none", "hoid2d"}));
+  EXPECT_EQ(leaked["rows"][0][1], "100.0 %");
+  EXPECT_EQ(Table(direct_results, "area_sweep")["rows"][0][2], Table(direct_results, "ate")["rows"][0][2]);
+  for (const char* file : {"tables.md", "tables/ate.csv", "tables/area_sweep.csv", "plan.json"}) {
+    EXPECT_TRUE(fs::exists(scratch / "direct" / file)) << file;
+  }
+}
+
+TEST(CliBench, FailuresAreRecordedAsFailuresAndResumeRunsOnlyWhatIsLeft) {
+  const testing::TempDir scratch;
+  const fs::path sequence = Render(scratch, "walking_xyz", 30, 4);
+  const fs::path bench = scratch / "bench";
+  const std::vector<std::string> base = {"bench", sequence.string(), (scratch / "no_such_sequence").string(),
+                                         "--modes", "none", "--area-sweep", "none", "--depth-sweep", "none",
+                                         "--out", bench.string()};
+
+  // A time limit nobody can meet: the run is recorded as failed, and the missing folder as missing.
+  std::vector<std::string> args = base;
+  args.insert(args.end(), {"--runs", "1", "--timeout", "0.05"});
+  const RunResult timed_out = RunHoidslam(scratch, args);
+  ASSERT_EQ(timed_out.exit_status, 0) << timed_out.err;
+  EXPECT_THAT(timed_out.err, HasSubstr("no_such_sequence: left out"));
+  EXPECT_THAT(timed_out.out, HasSubstr("| walking_xyz | failed |"));
+  EXPECT_THAT(timed_out.out, HasSubstr("| no_such_sequence | missing |"));
+  EXPECT_THAT(testing::ReadText(bench / "runs" / "walking_xyz.none.r1.log"), HasSubstr("timed out"));
+
+  // The same folder again without --resume or --force: one error line naming --out, nothing touched.
+  ExpectOneErrorLine(RunHoidslam(scratch, args), "--resume");
+
+  // Resumed with two runs and time enough: the failed run and the new one run, and both finish.
+  args = base;
+  args.insert(args.end(), {"--runs", "2", "--resume"});
+  const RunResult resumed = RunHoidslam(scratch, args);
+  ASSERT_EQ(resumed.exit_status, 0) << resumed.err;
+  EXPECT_THAT(resumed.err, HasSubstr("2 runs planned, 2 to run"));
+  const RunResult again = RunHoidslam(scratch, args);
+  ASSERT_EQ(again.exit_status, 0) << again.err;
+  EXPECT_THAT(again.err, HasSubstr("2 runs planned, 0 to run"));
+  EXPECT_THAT(again.out, ::testing::ContainsRegex("\\| walking_xyz \\| 0\\.0[0-9]{3} \\|"));
+}
+
+}  // namespace
+}  // namespace hoidslam::apps

@@ -1,0 +1,68 @@
+#include "cli_test_support.h"
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "support/text_file.h"
+
+extern char** environ;
+
+namespace hoidslam::apps {
+
+namespace fs = std::filesystem;
+
+RunResult RunProgram(const testing::TempDir& scratch, const std::vector<std::string>& argv_strings) {
+  const fs::path out = scratch / "stdout.txt";
+  const fs::path err = scratch / "stderr.txt";
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&actions, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  std::vector<std::string> strings = argv_strings;
+  std::vector<char*> argv;
+  for (std::string& arg : strings) argv.push_back(arg.data());
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  const int spawned = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  RunResult result;
+  if (spawned != 0) return result;
+  int status = 0;
+  waitpid(pid, &status, 0);
+  result.exit_status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  result.out = testing::ReadText(out);
+  result.err = testing::ReadText(err);
+  return result;
+}
+
+RunResult RunHoidslam(const testing::TempDir& scratch, const std::vector<std::string>& args) {
+  std::vector<std::string> argv = {HOIDSLAM_BINARY};
+  argv.insert(argv.end(), args.begin(), args.end());
+  return RunProgram(scratch, argv);
+}
+
+void ExpectOneErrorLine(const RunResult& result, const std::string& names) {
+  EXPECT_EQ(result.exit_status, 1) << result.err;
+  EXPECT_THAT(result.err, ::testing::StartsWith("error: "));
+  EXPECT_THAT(result.err, ::testing::HasSubstr(names));
+  EXPECT_EQ(std::count(result.err.begin(), result.err.end(), '\n'), 1) << result.err;
+}
+
+fs::path Render(const testing::TempDir& scratch, const std::string& scenario, int frames, int step) {
+  const fs::path sequence = scratch / scenario;
+  const RunResult synth = RunHoidslam(scratch, {"synth", "--scenario", scenario, "--frames", std::to_string(frames * step),
+                                                "--frame-step", std::to_string(step), "--out", sequence.string()});
+  EXPECT_EQ(synth.exit_status, 0) << synth.err;
+  return sequence;
+}
+
+nlohmann::json Summary(const fs::path& out) { return nlohmann::json::parse(testing::ReadText(out / "summary.json")); }
+
+}  // namespace hoidslam::apps

@@ -1,0 +1,267 @@
+#include "hoidslam/bench/bench.h"
+
+#include <algorithm>
+#include <fstream>
+#include <thread>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
+
+#include "hoidslam/bench/process_pool.h"
+#include "hoidslam/core/error.h"
+#include "hoidslam/core/options.h"
+#include "hoidslam/core/progress.h"
+#include "hoidslam/core/stopwatch.h"
+#include "hoidslam/io/atomic_file.h"
+#include "hoidslam/io/files.h"
+
+namespace hoidslam::bench {
+namespace {
+
+namespace fs = std::filesystem;
+
+void WriteText(const fs::path& path, const std::string& text) {
+  io::AtomicFile file(path);
+  file.stream() << text;
+  file.Commit();
+}
+
+// A bench folder is new, continued (--resume) or started over (--force, keeping rendered sequences).
+void PrepareFolder(const BenchRequest& request) {
+  const fs::path& folder = request.folder;
+  if (fs::exists(folder) && !fs::is_directory(folder)) {
+    throw core::InputError::ForParameter("--out", fmt::format("{} is a file, not a folder", folder.string()));
+  }
+  const bool used = fs::exists(folder) && !fs::is_empty(folder);
+  if (used && !request.resume && !request.force) {
+    throw core::InputError::ForParameter(
+        "--out", fmt::format("{} holds an earlier bench: --resume continues it, --force starts over", folder.string()));
+  }
+  if (used && request.force && !request.resume) {
+    for (const fs::directory_entry& entry : fs::directory_iterator(folder)) {
+      if (entry.path().filename() != "sequences") fs::remove_all(entry.path());
+    }
+  }
+  fs::create_directories(folder / "runs");
+}
+
+std::string ScenarioFolderName(const std::string& scenario, const BenchOptions& options) {
+  std::string name = scenario;
+  if (options.synth_frames > 0) name += fmt::format("-f{}", options.synth_frames);
+  if (options.synth_frame_step > 1) name += fmt::format("-s{}", options.synth_frame_step);
+  return name;
+}
+
+// The sequences as the request names them; scenarios are not rendered yet, so they are taken as they will be.
+std::vector<BenchSequence> RequestedSequences(const BenchRequest& request) {
+  const fs::path sequences_dir =
+      fs::absolute(request.sequences_dir.empty() ? request.folder / "sequences" : request.sequences_dir);
+  std::vector<BenchSequence> sequences;
+  const core::HoidOptions defaults;  // scenarios run with run's default settings
+  for (const std::string& scenario : request.scenarios) {
+    BenchSequence& sequence = sequences.emplace_back();
+    sequence.name = scenario;
+    sequence.path = sequences_dir / ScenarioFolderName(scenario, request.options);
+    sequence.scenario = scenario;
+    sequence.has_masks = true;
+    sequence.min_interaction_area = defaults.min_interaction_area;
+    sequence.depth_threshold = defaults.depth_threshold;
+  }
+  for (const fs::path& folder : request.folders) {
+    std::string name = io::NormalFolder(folder).filename().string();
+    const auto taken = [&](const std::string& n) {
+      return std::any_of(sequences.begin(), sequences.end(), [&](const BenchSequence& s) { return s.name == n; });
+    };
+    for (int k = 2; taken(name); ++k) name = fmt::format("{}-{}", io::NormalFolder(folder).filename().string(), k);
+    const fs::path settings = request.settings.empty() ? SettingsForFolder(folder, request.config_dir) : request.settings;
+    sequences.push_back(InspectSequence(name, folder, settings));
+    if (!sequences.back().problem.empty()) spdlog::warn("{}: left out: {}", name, sequences.back().problem);
+  }
+  return sequences;
+}
+
+// Renders the scenarios not rendered yet, in parallel, and checks every one; a failed rendering becomes the
+// sequence's problem.
+void RenderScenarios(const Plan& plan, std::vector<BenchSequence>& sequences, std::size_t jobs,
+                     const std::function<bool()>& stop_requested) {
+  std::vector<Job> renders;
+  std::vector<std::size_t> rendered;
+  for (std::size_t s = 0; s < sequences.size(); ++s) {
+    if (sequences[s].scenario.empty() || fs::exists(sequences[s].path / "rgb.txt")) continue;
+    fs::create_directories(sequences[s].path.parent_path());
+    const fs::path log = sequences[s].path.string() + ".log";
+    fs::remove(log);
+    renders.push_back({plan.PrepareCommand(sequences[s]), log});
+    rendered.push_back(s);
+  }
+  if (!renders.empty()) spdlog::info("rendering {} synthetic sequence(s)", renders.size());
+  RunJobs(renders, {.parallel = jobs}, [&](std::size_t i, const JobOutcome& outcome) {
+    BenchSequence& sequence = sequences[rendered[i]];
+    if (outcome.Succeeded()) {
+      spdlog::info("rendered {} ({:.0f} s)", sequence.name, outcome.seconds);
+    } else {
+      sequence.problem = fmt::format("rendering failed, {} (log: {}.log)", outcome.Describe(), sequence.path.string());
+      spdlog::warn("{}: {}", sequence.name, sequence.problem);
+    }
+  }, stop_requested);
+  for (BenchSequence& sequence : sequences) {
+    if (sequence.scenario.empty() || !sequence.problem.empty()) continue;
+    BenchSequence inspected = InspectSequence(sequence.name, sequence.path, sequence.settings);
+    inspected.scenario = sequence.scenario;
+    sequence = inspected;
+  }
+}
+
+void WritePlanFiles(const Plan& plan) {
+  WriteText(plan.folder / "plan.json", PlanToJson(plan).dump(2) + "\n");
+  std::string prepare;
+  for (const BenchSequence& sequence : plan.sequences) {
+    if (sequence.scenario.empty()) continue;
+    fs::create_directories(sequence.path.parent_path());
+    const std::string log = sequence.path.string() + ".log";
+    // Rendering a sequence that is already there is skipped, so the list can run again after a failure.
+    prepare += fmt::format("test -e {} || {} > {} 2>&1\n", ShellCommand({(sequence.path / "rgb.txt").string()}),
+                           ShellCommand(plan.PrepareCommand(sequence)), ShellCommand({log}));
+  }
+  WriteText(plan.folder / "prepare.txt", prepare);
+  std::string jobs;
+  for (const RunSpec& spec : plan.runs) {
+    jobs += fmt::format("{} > {} 2>&1\n", ShellCommand(plan.RunCommand(spec)), ShellCommand({plan.RunLog(spec).string()}));
+  }
+  WriteText(plan.folder / "jobs.txt", jobs);
+}
+
+std::string DescribeResult(const RunResult& result) {
+  if (result.status != RunStatus::kOk) return fmt::format("{}: {}", ToString(result.status), result.message);
+  std::string text = result.ate_rmse ? fmt::format("ATE {:.4f} m", *result.ate_rmse) : "no ATE";
+  text += fmt::format(", {} of {} frames tracked", result.tracked, result.frames);
+  if (result.leaked) text += fmt::format(", leaked {:.1f} %, wasted {:.1f} %", 100 * *result.leaked, 100 * *result.wasted);
+  return text;
+}
+
+std::string CpuModel() {
+  std::ifstream in("/proc/cpuinfo");
+  for (std::string line; std::getline(in, line);) {
+    if (line.starts_with("model name")) return line.substr(line.find(':') + 2);
+  }
+  return "unknown CPU";
+}
+
+}  // namespace
+
+fs::path SettingsForFolder(const fs::path& folder, const fs::path& config_dir) {
+  std::string name = io::NormalFolder(folder).filename().string();
+  std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return std::tolower(c); });
+  for (const auto& [key, file] : {std::pair{"freiburg1", "TUM1.yaml"}, std::pair{"freiburg2", "TUM2.yaml"},
+                                  std::pair{"freiburg3", "TUM3.yaml"}, std::pair{"bonn", "Bonn.yaml"}}) {
+    if (name.find(key) != std::string::npos && fs::exists(config_dir / file)) return config_dir / file;
+  }
+  return {};
+}
+
+BenchOutcome RunBench(const BenchRequest& request, const std::function<bool()>& stop_requested) {
+  request.options.Check();
+  if (request.scenarios.empty() && request.folders.empty()) {
+    throw core::InputError::ForParameter("--scenarios", "nothing to run: give scenarios or sequence folders");
+  }
+  PrepareFolder(request);
+  std::vector<BenchSequence> sequences = RequestedSequences(request);
+  RenderScenarios(MakePlan(request.options, sequences, request.binary, request.folder), sequences, request.jobs,
+                  stop_requested);
+
+  BenchOutcome outcome;
+  outcome.plan = MakePlan(request.options, sequences, request.binary, request.folder);
+  const Plan& plan = outcome.plan;
+  WritePlanFiles(plan);
+
+  std::vector<Job> jobs;
+  std::vector<std::size_t> job_runs;  // plan.runs index of each job
+  for (std::size_t i = 0; i < plan.runs.size(); ++i) {
+    if (request.resume && ReadRunResult(plan, plan.runs[i]).status == RunStatus::kOk) continue;
+    fs::remove(plan.RunLog(plan.runs[i]));  // a log tells of the latest attempt only
+    jobs.push_back({plan.RunCommand(plan.runs[i]), plan.RunLog(plan.runs[i])});
+    job_runs.push_back(i);
+  }
+  spdlog::info("{} runs planned, {} to run, {} at a time", plan.runs.size(), jobs.size(), request.jobs);
+  const core::Stopwatch clock;
+  std::size_t finished = 0;
+  RunJobs(jobs, {.parallel = request.jobs, .timeout_seconds = plan.options.timeout_seconds},
+          [&](std::size_t j, const JobOutcome& job) {
+            const RunSpec& spec = plan.runs[job_runs[j]];
+            if (job.timed_out) {
+              std::ofstream(plan.RunLog(spec), std::ios::app) << "\nhoidslam bench: " << job.Describe() << '\n';
+            }
+            const RunResult result = ReadRunResult(plan, spec);
+            ++finished;
+            const double eta = clock.ElapsedSeconds() / static_cast<double>(finished) *
+                               static_cast<double>(jobs.size() - finished);
+            spdlog::info("[{}/{}] {} {} #{}: {} ({:.0f} s; ETA {})", finished, jobs.size(),
+                         plan.sequences[spec.sequence].name, plan.variants[spec.variant].Name(), spec.run,
+                         DescribeResult(result), job.seconds, core::FormatDuration(eta));
+          },
+          stop_requested);
+
+  outcome.interrupted = stop_requested && stop_requested();
+  outcome.results = CollectResults(plan);
+  outcome.tables = BuildTables(plan, outcome.results);
+  return outcome;
+}
+
+Plan WriteBenchPlan(const BenchRequest& request) {
+  request.options.Check();
+  if (request.scenarios.empty() && request.folders.empty()) {
+    throw core::InputError::ForParameter("--scenarios", "nothing to plan: give scenarios or sequence folders");
+  }
+  PrepareFolder(request);
+  Plan plan = MakePlan(request.options, RequestedSequences(request), request.binary, request.folder);
+  WritePlanFiles(plan);
+  return plan;
+}
+
+BenchOutcome CollectBench(const fs::path& folder) {
+  const fs::path plan_path = folder / "plan.json";
+  std::ifstream in(plan_path);
+  if (!in) throw core::InputError::InFile(plan_path, "not found: --collect needs a folder made by bench --plan");
+  nlohmann::json json;
+  try {
+    json = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw core::InputError::InFile(plan_path, fmt::format("not JSON: {}", e.what()));
+  }
+  BenchOutcome outcome;
+  outcome.plan = PlanFromJson(json, plan_path);
+  outcome.results = CollectResults(outcome.plan);
+  outcome.tables = BuildTables(outcome.plan, outcome.results);
+  return outcome;
+}
+
+void WriteBenchOutputs(const BenchOutcome& outcome) {
+  const Plan& plan = outcome.plan;
+  nlohmann::json runs = nlohmann::json::array();
+  for (std::size_t i = 0; i < plan.runs.size(); ++i) {
+    const RunSpec& spec = plan.runs[i];
+    nlohmann::json entry = RunResultToJson(outcome.results[i]);
+    entry.update({{"id", spec.id},
+                  {"sequence", plan.sequences[spec.sequence].name},
+                  {"variant", plan.variants[spec.variant].Name()},
+                  {"mode", plan.variants[spec.variant].mode},
+                  {"run", spec.run}});
+    runs.push_back(std::move(entry));
+  }
+  nlohmann::json tables = nlohmann::json::array();
+  std::string markdown = fmt::format("# hoidslam bench\n\nMachine: {}, {} threads. Plan: `{}`.\n\n", CpuModel(),
+                                     std::thread::hardware_concurrency(), (plan.folder / "plan.json").string());
+  fs::create_directories(plan.folder / "tables");
+  for (const NamedTable& named : outcome.tables) {
+    const report::Table& t = named.table;
+    tables.push_back({{"name", named.name}, {"title", t.title}, {"note", t.note}, {"header", t.header}, {"rows", t.rows}});
+    markdown += t.ToMarkdown() + "\n";
+    WriteText(plan.folder / "tables" / (named.name + ".csv"), t.ToCsv());
+  }
+  WriteText(plan.folder / "tables.md", markdown);
+  WriteText(plan.folder / "results.json",
+            nlohmann::json{{"plan", PlanToJson(plan)}, {"runs", runs}, {"tables", tables}}.dump(2) + "\n");
+}
+
+}  // namespace hoidslam::bench

@@ -1,0 +1,58 @@
+#pragma once
+// `hoidslam bench` from start to end: render the synthetic scenarios asked for, check the sequence folders
+// given, plan the runs, run them as parallel child processes (or write them as job lists), and build the tables
+// and results from the run folders. docs/bench.md describes the folder and the tables.
+
+#include <cstddef>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "hoidslam/bench/plan.h"
+#include "hoidslam/bench/results.h"
+#include "hoidslam/bench/tables.h"
+
+namespace hoidslam::bench {
+
+struct BenchRequest {
+  BenchOptions options;
+  std::vector<std::string> scenarios;          // shipped synthetic scenarios, rendered on demand
+  std::vector<std::filesystem::path> folders;  // TUM / Bonn sequence folders
+  std::filesystem::path settings;     // settings for the folders; empty: picked by folder name from config_dir
+  std::filesystem::path config_dir;   // the shipped settings files (TUM1/2/3.yaml, Bonn.yaml)
+  std::filesystem::path sequences_dir;  // where scenarios are rendered; empty: <folder>/sequences
+  std::filesystem::path folder;       // the bench folder
+  std::filesystem::path binary;       // the hoidslam executable
+  std::size_t jobs = 1;               // processes at once
+  bool resume = false;                // keep finished runs and rendered sequences, run the rest
+  bool force = false;                 // start over in a non-empty folder (rendered sequences are kept)
+};
+
+// The shipped settings file for a TUM / Bonn folder name (freiburg1/2/3, bonn), or empty when none fits.
+std::filesystem::path SettingsForFolder(const std::filesystem::path& folder, const std::filesystem::path& config_dir);
+
+struct BenchOutcome {
+  Plan plan;
+  std::vector<RunResult> results;
+  std::vector<NamedTable> tables;
+  bool interrupted = false;
+};
+
+// Runs the whole bench. `stop_requested` is polled: the runs under way finish their outputs as on Ctrl-C, no new
+// one starts, and the tables of the finished runs are written. Throws InputError for bad options or a folder
+// that is in use without --resume / --force.
+BenchOutcome RunBench(const BenchRequest& request, const std::function<bool()>& stop_requested);
+
+// Writes plan.json, prepare.txt and jobs.txt (one self-contained shell command per line) without running
+// anything, for GNU parallel or a Slurm array. Returns the plan.
+Plan WriteBenchPlan(const BenchRequest& request);
+
+// Reads <folder>/plan.json and the run folders, and writes the tables and results (CollectBench after jobs.txt
+// ran elsewhere). Throws InputError naming plan.json when it is missing or broken.
+BenchOutcome CollectBench(const std::filesystem::path& folder);
+
+// results.json, tables.md and tables/<name>.csv in the plan's folder, each complete or absent.
+void WriteBenchOutputs(const BenchOutcome& outcome);
+
+}  // namespace hoidslam::bench

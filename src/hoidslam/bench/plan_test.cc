@@ -1,0 +1,182 @@
+#include "hoidslam/bench/plan.h"
+
+#include <algorithm>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "hoidslam/core/error.h"
+
+namespace hoidslam::bench {
+namespace {
+
+using ::testing::ElementsAre;
+using ::testing::HasSubstr;
+
+BenchSequence Synthetic(const std::string& name) {
+  BenchSequence sequence;
+  sequence.name = name;
+  sequence.path = "/b/sequences/" + name;
+  sequence.scenario = name;
+  sequence.has_masks = true;
+  sequence.min_interaction_area = 0.4;
+  sequence.depth_threshold = 0.2;
+  return sequence;
+}
+
+BenchSequence Tum(const std::string& name) {
+  BenchSequence sequence;
+  sequence.name = name;
+  sequence.path = "/data/" + name;
+  sequence.settings = "/cfg/TUM3.yaml";
+  sequence.min_interaction_area = 0.4;
+  sequence.depth_threshold = 0.2;
+  return sequence;
+}
+
+std::vector<std::string> VariantNames(const Plan& plan) {
+  std::vector<std::string> names;
+  for (const Variant& v : plan.variants) names.push_back(v.Name());
+  return names;
+}
+
+std::size_t RunsOf(const Plan& plan, const std::string& sequence, const std::string& variant) {
+  return static_cast<std::size_t>(std::count_if(plan.runs.begin(), plan.runs.end(), [&](const RunSpec& r) {
+    return plan.sequences[r.sequence].name == sequence && plan.variants[r.variant].Name() == variant;
+  }));
+}
+
+TEST(MakePlan, ModesThenSweepValuesNotAlreadyMeasuredByThePlainRuns) {
+  BenchOptions options;
+  options.runs = 2;
+  const Plan plan = MakePlan(options, {Synthetic("walking_xyz")}, "/bin/hoidslam", "/b");
+  EXPECT_THAT(VariantNames(plan),
+              ElementsAre("none", "person", "classes", "hoid2d", "hoid3d", "oracle", "hoid2d area=0.2",
+                          "hoid2d area=0.3", "hoid2d area=0.5", "hoid3d depth=0.1", "hoid3d depth=0.3",
+                          "hoid3d depth=0.5"));
+  EXPECT_EQ(plan.runs.size(), 12U * 2U);
+  EXPECT_EQ(plan.runs[0].id, "walking_xyz.none.r1");
+  EXPECT_EQ(plan.runs[13].id, "walking_xyz.hoid2d-area0.2.r2");
+  // The sweep's 0.4 is the plain hoid2d run; 0.3 its own variant.
+  EXPECT_EQ(plan.SweepVariant("hoid2d", 0.4, true, plan.sequences[0]), 3U);
+  EXPECT_EQ(plan.SweepVariant("hoid2d", 0.3, true, plan.sequences[0]), 7U);
+  EXPECT_EQ(plan.SweepVariant("hoid3d", 0.7, false, plan.sequences[0]), std::nullopt);
+}
+
+TEST(MakePlan, OracleOnlyWhereMasksExistAndNothingForABrokenSequence) {
+  BenchOptions options;
+  options.runs = 1;
+  options.area_sweep = {};
+  options.depth_sweep = {};
+  BenchSequence broken = Tum("broken");
+  broken.problem = "rgb.txt: not found";
+  const Plan plan = MakePlan(options, {Tum("fr3_walking_xyz"), Synthetic("carry"), broken}, "/bin/hoidslam", "/b");
+  EXPECT_EQ(RunsOf(plan, "fr3_walking_xyz", "oracle"), 0U);
+  EXPECT_EQ(RunsOf(plan, "fr3_walking_xyz", "hoid2d"), 1U);
+  EXPECT_EQ(RunsOf(plan, "carry", "oracle"), 1U);
+  EXPECT_EQ(RunsOf(plan, "broken", "none"), 0U);
+  EXPECT_EQ(plan.runs.size(), 5U + 6U);
+}
+
+TEST(MakePlan, ASettingThatDiffersFromTheSweepValueGetsItsOwnRuns) {
+  BenchOptions options;
+  options.runs = 1;
+  options.modes = {"hoid2d"};
+  options.area_sweep = {0.3, 0.4};
+  options.depth_sweep = {};
+  BenchSequence own = Tum("own");
+  own.min_interaction_area = 0.3;  // its settings file says 0.3: the plain run measures 0.3, so 0.4 needs runs
+  const Plan plan = MakePlan(options, {own}, "/bin/hoidslam", "/b");
+  EXPECT_THAT(VariantNames(plan), ElementsAre("hoid2d", "hoid2d area=0.4"));
+  EXPECT_EQ(plan.SweepVariant("hoid2d", 0.3, true, plan.sequences[0]), 0U);
+  EXPECT_EQ(plan.SweepVariant("hoid2d", 0.4, true, plan.sequences[0]), 1U);
+}
+
+TEST(MakePlan, RejectsBadOptionsNamingTheParameter) {
+  BenchOptions options;
+  options.modes = {"hoid2d", "everything"};
+  EXPECT_THROW(
+      {
+        try {
+          MakePlan(options, {}, "/bin/hoidslam", "/b");
+        } catch (const core::InputError& e) {
+          EXPECT_THAT(e.what(), HasSubstr("--modes"));
+          EXPECT_THAT(e.what(), HasSubstr("everything"));
+          throw;
+        }
+      },
+      core::InputError);
+  options = {};
+  options.area_sweep = {0.0};
+  EXPECT_THROW(MakePlan(options, {}, "/bin/hoidslam", "/b"), core::InputError);
+  options = {};
+  options.runs = 0;
+  EXPECT_THROW(MakePlan(options, {}, "/bin/hoidslam", "/b"), core::InputError);
+}
+
+TEST(Plan, RunCommandCarriesEverythingTheRunNeeds) {
+  BenchOptions options;
+  options.runs = 2;
+  options.modes = {"hoid3d"};
+  options.area_sweep = {};
+  options.depth_sweep = {0.3};
+  options.frames = 100;
+  options.deterministic = true;
+  const Plan plan = MakePlan(options, {Tum("fr3")}, "/bin/hoidslam", "/b");
+  ASSERT_EQ(plan.runs.size(), 4U);
+  EXPECT_THAT(plan.RunCommand(plan.runs[0]),
+              ElementsAre("/bin/hoidslam", "run", "/data/fr3", "--filter", "hoid3d", "--out", "/b/runs/fr3.hoid3d.r1",
+                          "--force", "--settings", "/cfg/TUM3.yaml", "--frames", "100", "--deterministic",
+                          "--snapshots", "6"));
+  const std::vector<std::string> swept = plan.RunCommand(plan.runs[3]);
+  EXPECT_THAT(swept, ::testing::Contains("--depth-threshold"));
+  EXPECT_THAT(swept, ::testing::Contains("0.3"));
+  EXPECT_EQ(swept.back(), "0");  // snapshots only in the first run
+  EXPECT_TRUE(plan.PrepareCommand(plan.sequences[0]).empty());
+}
+
+TEST(Plan, PrepareCommandRendersTheScenario) {
+  BenchOptions options;
+  options.synth_frames = 300;
+  options.synth_frame_step = 2;
+  const Plan plan = MakePlan(options, {Synthetic("carry")}, "/bin/hoidslam", "/b");
+  EXPECT_THAT(plan.PrepareCommand(plan.sequences[0]),
+              ElementsAre("/bin/hoidslam", "synth", "--scenario", "carry", "--out", "/b/sequences/carry", "--frames",
+                          "300", "--frame-step", "2"));
+}
+
+TEST(Plan, JsonRoundTripKeepsEveryRunAndCommand) {
+  BenchOptions options;
+  options.runs = 3;
+  options.model = "";
+  BenchSequence broken = Tum("broken");
+  broken.problem = "gone";
+  const Plan plan = MakePlan(options, {Synthetic("walking_xyz"), Tum("fr3"), broken}, "/bin/hoidslam", "/b");
+  const Plan back = PlanFromJson(nlohmann::json::parse(PlanToJson(plan).dump()), "plan.json");
+  ASSERT_EQ(back.runs.size(), plan.runs.size());
+  for (std::size_t i = 0; i < plan.runs.size(); ++i) {
+    EXPECT_EQ(back.RunCommand(back.runs[i]), plan.RunCommand(plan.runs[i]));
+    EXPECT_EQ(back.runs[i].id, plan.runs[i].id);
+  }
+  EXPECT_EQ(back.sequences[2].problem, "gone");
+  EXPECT_EQ(VariantNames(back), VariantNames(plan));
+}
+
+TEST(PlanFromJson, NamesTheFileWhenItIsNotAPlan) {
+  try {
+    PlanFromJson(nlohmann::json{{"runs", 3}}, "/b/plan.json");
+    FAIL() << "no error";
+  } catch (const core::InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("/b/plan.json"));
+  }
+}
+
+TEST(ShellCommand, QuotesWhatTheShellWouldSplitOrExpand) {
+  EXPECT_EQ(ShellCommand({"/bin/hoidslam", "run", "/a b/seq", "--filter", "hoid2d", "it's", "$HOME", "0.3"}),
+            "/bin/hoidslam run '/a b/seq' --filter hoid2d 'it'\\''s' '$HOME' 0.3");
+  EXPECT_EQ(ShellCommand({""}), "''");
+}
+
+}  // namespace
+}  // namespace hoidslam::bench

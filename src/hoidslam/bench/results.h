@@ -1,0 +1,48 @@
+#pragma once
+// What a finished bench run left in its folder, read back for the tables. A run is judged only by its folder
+// and log, so runs made by `hoidslam bench`, GNU parallel or a Slurm array are collected the same way.
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "hoidslam/bench/plan.h"
+
+namespace hoidslam::bench {
+
+enum class RunStatus {
+  kOk,           // complete outputs of the whole sequence
+  kFailed,       // ended without outputs (an error, a crash, a time limit): never a number in the tables
+  kInterrupted,  // stopped early (Ctrl-C); run again by --resume
+  kNotRun,       // no trace yet
+};
+const char* ToString(RunStatus status);
+
+struct StageMedians {
+  double load = 0, extract = 0, detect = 0, filter = 0, track = 0, tracking_total = 0;  // ms per frame
+};
+
+struct RunResult {
+  RunStatus status = RunStatus::kNotRun;
+  std::string message;  // kFailed: the last line of the run's log
+  std::size_t frames = 0, tracked = 0, lost = 0, before_initialization = 0;
+  std::optional<double> ate_rmse, ate_mean, ate_median;  // m; absent without ground truth or a trajectory
+  std::optional<double> rpe_translation_rmse;            // m per second
+  std::optional<double> rpe_rotation_rmse;               // degrees per second
+  StageMedians median_ms;
+  std::optional<double> leaked, wasted;  // exclusion quality, shares in [0, 1], on sequences with masks
+};
+
+// Reads runs/<id>/summary.json, or the log when the folder is absent. Throws InputError naming summary.json
+// when it exists but is not one `hoidslam run` writes.
+RunResult ReadRunResult(const Plan& plan, const RunSpec& spec);
+
+// One result per plan.runs entry, in order.
+std::vector<RunResult> CollectResults(const Plan& plan);
+
+nlohmann::json RunResultToJson(const RunResult& result);
+
+}  // namespace hoidslam::bench

@@ -1,0 +1,244 @@
+#include "hoidslam/bench/tables.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+#include <fmt/format.h>
+
+#include "hoidslam/eval/statistics.h"
+
+namespace hoidslam::bench {
+namespace {
+
+using Value = std::function<std::optional<double>(const RunResult&)>;
+
+double Median(std::vector<double> values) { return eval::ComputeStatistics(values).median; }
+
+// The runs of one sequence and one variant.
+struct Group {
+  std::size_t planned = 0;
+  std::size_t failed = 0;
+  std::vector<const RunResult*> ok;
+};
+
+class Grid {
+ public:
+  Grid(const Plan& plan, const std::vector<RunResult>& results)
+      : plan_(plan), groups_(plan.sequences.size(), std::vector<Group>(plan.variants.size())) {
+    for (std::size_t i = 0; i < plan.runs.size(); ++i) {
+      Group& group = groups_[plan.runs[i].sequence][plan.runs[i].variant];
+      ++group.planned;
+      if (results[i].status == RunStatus::kOk) group.ok.push_back(&results[i]);
+      if (results[i].status == RunStatus::kFailed) ++group.failed;
+    }
+  }
+
+  // The median of `value` over the finished runs, when they all have it.
+  std::optional<double> MedianOf(std::size_t sequence, std::size_t variant, const Value& value) const {
+    const Group& group = groups_[sequence][variant];
+    std::vector<double> values;
+    for (const RunResult* r : group.ok) {
+      if (const std::optional<double> v = value(*r)) values.push_back(*v);
+    }
+    if (values.empty() || values.size() != group.ok.size()) return std::nullopt;
+    return Median(values);
+  }
+
+  // One cell: the formatted median with "(k/n)" when runs are missing, or why there is no number.
+  std::string Cell(std::size_t sequence, std::optional<std::size_t> variant, const Value& value,
+                   const std::function<std::string(double)>& format) const {
+    if (!plan_.sequences[sequence].problem.empty()) return "missing";
+    if (!variant) return "–";
+    const Group& group = groups_[sequence][*variant];
+    if (group.planned == 0) return "–";  // not applicable (oracle without masks)
+    if (group.ok.empty()) return group.failed > 0 ? "failed" : "not run";
+    const std::optional<double> median = MedianOf(sequence, *variant, value);
+    if (!median) return "n/a";
+    return format(*median) + Shortfall(sequence, *variant);
+  }
+
+  // " (k/n)" when only k of the n planned runs finished, else empty.
+  std::string Shortfall(std::size_t sequence, std::size_t variant) const {
+    const Group& group = groups_[sequence][variant];
+    return group.ok.size() < group.planned ? fmt::format(" ({}/{})", group.ok.size(), group.planned) : "";
+  }
+
+  const Group& group(std::size_t sequence, std::size_t variant) const { return groups_[sequence][variant]; }
+
+ private:
+  const Plan& plan_;
+  std::vector<std::vector<Group>> groups_;
+};
+
+std::string Metres(double v) { return fmt::format("{:.4f}", v); }
+std::string Percent(double v) { return fmt::format("{:.1f} %", 100.0 * v); }
+std::string Millis(double v) { return fmt::format("{:.2f}", v); }
+
+std::optional<std::size_t> PlainVariant(const Plan& plan, const std::string& mode) {
+  for (std::size_t v = 0; v < plan.variants.size(); ++v) {
+    if (plan.variants[v] == Variant::Plain(mode)) return v;
+  }
+  return std::nullopt;
+}
+
+std::vector<std::size_t> PlainVariants(const Plan& plan) {
+  std::vector<std::size_t> variants;
+  for (const std::string& mode : plan.options.modes) variants.push_back(*PlainVariant(plan, mode));
+  return variants;
+}
+
+std::string RunsNote(const Plan& plan) {
+  std::string note = fmt::format("Median of {} run{} per cell", plan.options.runs, plan.options.runs == 1 ? "" : "s");
+  if (plan.options.deterministic) note += " (deterministic mode)";
+  note += "; (k/n): only k of n runs finished; failed: no run finished; –: not applicable.";
+  for (const BenchSequence& s : plan.sequences) {
+    if (!s.problem.empty()) note += fmt::format(" {} is missing: {}.", s.name, s.problem);
+  }
+  return note;
+}
+
+using CellText = std::function<std::string(std::size_t sequence, std::size_t variant)>;
+
+// Rows: sequences; columns: the plain modes.
+report::Table PerMode(const Plan& plan, std::string title, const CellText& cell) {
+  report::Table table{.title = std::move(title), .note = RunsNote(plan), .header = {"sequence"}, .rows = {}};
+  for (const std::size_t v : PlainVariants(plan)) table.header.push_back(plan.variants[v].Name());
+  for (std::size_t s = 0; s < plan.sequences.size(); ++s) {
+    std::vector<std::string> row = {plan.sequences[s].name};
+    for (const std::size_t v : PlainVariants(plan)) row.push_back(cell(s, v));
+    table.rows.push_back(std::move(row));
+  }
+  return table;
+}
+
+// PerMode with one value per cell, and a last row with the median over the sequences (when there are several
+// and every one has a number).
+report::Table PerMode(const Plan& plan, const Grid& grid, std::string title, const Value& value,
+                      const std::function<std::string(double)>& format) {
+  report::Table table = PerMode(plan, std::move(title), [&](std::size_t s, std::size_t v) {
+    return grid.Cell(s, v, value, format);
+  });
+  if (plan.sequences.size() < 2) return table;
+  std::vector<std::string> row = {"median of the sequences"};
+  for (const std::size_t v : PlainVariants(plan)) {
+    std::vector<double> medians;
+    for (std::size_t s = 0; s < plan.sequences.size(); ++s) {
+      if (const std::optional<double> m = grid.MedianOf(s, v, value)) medians.push_back(*m);
+    }
+    row.push_back(medians.size() == plan.sequences.size() ? format(Median(medians)) : "–");
+  }
+  table.rows.push_back(std::move(row));
+  return table;
+}
+
+report::Table Sweep(const Plan& plan, const Grid& grid, const std::string& mode, const std::vector<double>& values,
+                    bool is_area, std::string title) {
+  report::Table table{.title = std::move(title), .note = RunsNote(plan), .header = {"sequence"}, .rows = {}};
+  for (const double value : values) table.header.push_back(fmt::format("{}", value));
+  const Value ate = [](const RunResult& r) { return r.ate_rmse; };
+  for (std::size_t s = 0; s < plan.sequences.size(); ++s) {
+    std::vector<std::string> row = {plan.sequences[s].name};
+    for (const double value : values) {
+      row.push_back(grid.Cell(s, plan.SweepVariant(mode, value, is_area, plan.sequences[s]), ate, Metres));
+    }
+    table.rows.push_back(std::move(row));
+  }
+  return table;
+}
+
+}  // namespace
+
+std::vector<NamedTable> BuildTables(const Plan& plan, const std::vector<RunResult>& results) {
+  const Grid grid(plan, results);
+  const auto has_mode = [&plan](const std::string& mode) { return PlainVariant(plan, mode).has_value(); };
+  std::vector<NamedTable> tables;
+
+  const Value rmse = [](const RunResult& r) { return r.ate_rmse; };
+  const Value mean = [](const RunResult& r) { return r.ate_mean; };
+  const Value median = [](const RunResult& r) { return r.ate_median; };
+  tables.push_back({"ate", PerMode(plan, grid, "ATE RMSE (m) per filter mode", rmse, Metres)});
+  tables.push_back({"ate_statistics",
+                    PerMode(plan, "ATE RMSE / mean / median (m), as in the paper's Tables 3 and 5",
+                            [&](std::size_t s, std::size_t v) {
+                              const auto r = grid.MedianOf(s, v, rmse);
+                              const auto a = grid.MedianOf(s, v, mean);
+                              const auto m = grid.MedianOf(s, v, median);
+                              if (!r || !a || !m || !plan.sequences[s].problem.empty()) {
+                                return grid.Cell(s, v, rmse, Metres);  // says why there is no number
+                              }
+                              return fmt::format("{} / {} / {}{}", Metres(*r), Metres(*a), Metres(*m),
+                                                 grid.Shortfall(s, v));
+                            })});
+
+  if (has_mode("hoid2d") && has_mode("hoid3d")) {
+    report::Table table{.title = "2D against 3D interaction test: ATE RMSE (m), as in the paper's Table 6",
+                        .note = RunsNote(plan),
+                        .header = {"sequence", "hoid2d", "hoid3d", "3D − 2D"},
+                        .rows = {}};
+    const std::size_t v2 = *PlainVariant(plan, "hoid2d");
+    const std::size_t v3 = *PlainVariant(plan, "hoid3d");
+    for (std::size_t s = 0; s < plan.sequences.size(); ++s) {
+      const std::optional<double> a = grid.MedianOf(s, v2, rmse);
+      const std::optional<double> b = grid.MedianOf(s, v3, rmse);
+      table.rows.push_back({plan.sequences[s].name, grid.Cell(s, v2, rmse, Metres), grid.Cell(s, v3, rmse, Metres),
+                            a && b && plan.sequences[s].problem.empty() ? fmt::format("{:+.4f}", *b - *a) : "–"});
+    }
+    tables.push_back({"hoid_2d_3d", std::move(table)});
+  }
+  if (!plan.options.area_sweep.empty()) {
+    tables.push_back({"area_sweep", Sweep(plan, grid, "hoid2d", plan.options.area_sweep, true,
+                                          "hoid2d ATE RMSE (m) by minimum interaction area, as in the paper's Table 2")});
+  }
+  if (!plan.options.depth_sweep.empty()) {
+    tables.push_back({"depth_sweep", Sweep(plan, grid, "hoid3d", plan.options.depth_sweep, false,
+                                           "hoid3d ATE RMSE (m) by depth threshold (m)")});
+  }
+
+  tables.push_back({"rpe_translation",
+                    PerMode(plan, grid, "RPE translation RMSE (m per second)",
+                            [](const RunResult& r) { return r.rpe_translation_rmse; }, Metres)});
+  tables.push_back({"rpe_rotation", PerMode(plan, grid, "RPE rotation RMSE (degrees per second)",
+                                            [](const RunResult& r) { return r.rpe_rotation_rmse; },
+                                            [](double v) { return fmt::format("{:.3f}", v); })});
+  tables.push_back({"lost", PerMode(plan, grid, "Frames lost after initialisation (and never initialised)",
+                                    [](const RunResult& r) -> std::optional<double> {
+                                      return static_cast<double>(r.lost + r.before_initialization);
+                                    },
+                                    [](double v) { return fmt::format("{:g}", v); })});
+
+  const bool any_masks = std::any_of(plan.sequences.begin(), plan.sequences.end(),
+                                     [](const BenchSequence& s) { return s.has_masks && s.problem.empty(); });
+  if (any_masks) {
+    tables.push_back({"leaked", PerMode(plan, grid,
+                                        "Exclusion quality: keypoints on moving things kept for tracking (leaked)",
+                                        [](const RunResult& r) { return r.leaked; }, Percent)});
+    tables.push_back({"wasted", PerMode(plan, grid, "Exclusion quality: static keypoints dropped (wasted)",
+                                        [](const RunResult& r) { return r.wasted; }, Percent)});
+  }
+
+  report::Table timing{.title = "Time per stage (ms per frame): median over the runs of each run's median",
+                       .note = "Tracking = extraction + filter + tracking, the detector excluded. Runs that share "
+                               "the cores (--jobs > 1) are slower than one run alone.",
+                       .header = {"mode", "load", "extract", "detect", "filter", "track", "tracking", "runs"},
+                       .rows = {}};
+  for (const std::size_t v : PlainVariants(plan)) {
+    std::vector<StageMedians> medians;
+    for (std::size_t s = 0; s < plan.sequences.size(); ++s) {
+      for (const RunResult* r : grid.group(s, v).ok) medians.push_back(r->median_ms);
+    }
+    std::vector<std::string> row = {plan.variants[v].Name()};
+    for (double StageMedians::*stage : {&StageMedians::load, &StageMedians::extract, &StageMedians::detect,
+                                        &StageMedians::filter, &StageMedians::track, &StageMedians::tracking_total}) {
+      std::vector<double> values;
+      for (const StageMedians& m : medians) values.push_back(m.*stage);
+      row.push_back(values.empty() ? "–" : Millis(Median(values)));
+    }
+    row.push_back(std::to_string(medians.size()));
+    timing.rows.push_back(std::move(row));
+  }
+  tables.push_back({"timing", std::move(timing)});
+  return tables;
+}
+
+}  // namespace hoidslam::bench

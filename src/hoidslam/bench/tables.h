@@ -1,0 +1,26 @@
+#pragma once
+// The bench's results as tables in the shape of the paper's: ATE per mode and sequence (its Tables 3 and 5),
+// 2D against 3D (Table 6), the sweeps of the minimum interaction area (Table 2) and of the depth threshold, RPE,
+// frames lost, time per stage, and the exclusion quality against the ground-truth masks. Every cell is the
+// median over the runs that finished; a cell with fewer finished runs than planned says how many, and a mode or
+// sequence whose runs all failed says "failed", never a number.
+
+#include <string>
+#include <vector>
+
+#include "hoidslam/bench/plan.h"
+#include "hoidslam/bench/results.h"
+#include "hoidslam/report/table.h"
+
+namespace hoidslam::bench {
+
+struct NamedTable {
+  std::string name;  // file stem: tables/<name>.csv
+  report::Table table;
+};
+
+// `results` has one entry per plan.runs entry. Tables that have nothing to show (no sweep asked, no sequence
+// with masks) are left out.
+std::vector<NamedTable> BuildTables(const Plan& plan, const std::vector<RunResult>& results);
+
+}  // namespace hoidslam::bench

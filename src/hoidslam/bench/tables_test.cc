@@ -1,0 +1,120 @@
+#include "hoidslam/bench/tables.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+namespace hoidslam::bench {
+namespace {
+
+using ::testing::ElementsAre;
+
+BenchSequence Synthetic(const std::string& name) {
+  BenchSequence sequence;
+  sequence.name = name;
+  sequence.path = "/b/sequences/" + name;
+  sequence.scenario = name;
+  sequence.has_masks = true;
+  sequence.min_interaction_area = 0.4;
+  sequence.depth_threshold = 0.2;
+  return sequence;
+}
+
+RunResult Ok(double ate, std::size_t lost = 0) {
+  RunResult r;
+  r.status = RunStatus::kOk;
+  r.frames = 100;
+  r.tracked = 100 - lost;
+  r.lost = lost;
+  r.ate_rmse = ate;
+  r.ate_mean = ate * 0.9;
+  r.ate_median = ate * 0.8;
+  r.rpe_translation_rmse = ate * 2;
+  r.rpe_rotation_rmse = ate * 100;
+  r.leaked = 0.1;
+  r.wasted = 0.2;
+  r.median_ms = {.load = 10, .extract = 4, .detect = 0.1, .filter = 0.01, .track = 2, .tracking_total = 6};
+  return r;
+}
+
+RunResult Failed() {
+  RunResult r;
+  r.status = RunStatus::kFailed;
+  r.message = "error: boom";
+  return r;
+}
+
+const report::Table& Find(const std::vector<NamedTable>& tables, const std::string& name) {
+  for (const NamedTable& t : tables) {
+    if (t.name == name) return t.table;
+  }
+  throw std::runtime_error("no table " + name);
+}
+
+class BenchTables : public ::testing::Test {
+ protected:
+  BenchTables() {
+    BenchOptions options;
+    options.runs = 3;
+    options.modes = {"none", "hoid2d", "hoid3d", "oracle"};
+    options.area_sweep = {0.3, 0.4};
+    options.depth_sweep = {};
+    BenchSequence missing = Synthetic("gone");
+    missing.problem = "rendering failed";
+    plan_ = MakePlan(options, {Synthetic("walking_xyz"), Synthetic("carry"), missing}, "/bin/hoidslam", "/b");
+    // walking_xyz: everything fine; carry: hoid2d loses one run, hoid3d fails every run.
+    for (const RunSpec& spec : plan_.runs) {
+      const std::string& sequence = plan_.sequences[spec.sequence].name;
+      const std::string variant = plan_.variants[spec.variant].Name();
+      const double base = variant == "none" ? 0.1 : variant == "hoid2d area=0.3" ? 0.006 : 0.004;
+      if (sequence == "carry" && variant == "hoid3d") {
+        results_.push_back(Failed());
+      } else if (sequence == "carry" && variant == "hoid2d" && spec.run == 2) {
+        results_.push_back(Failed());
+      } else {
+        results_.push_back(Ok(base + 0.001 * static_cast<double>(spec.run), spec.run == 3 ? 2 : 0));
+      }
+    }
+    tables_ = BuildTables(plan_, results_);
+  }
+
+  Plan plan_;
+  std::vector<RunResult> results_;
+  std::vector<NamedTable> tables_;
+};
+
+TEST_F(BenchTables, AteCellsAreMediansAndSayWhatIsMissing) {
+  const report::Table& ate = Find(tables_, "ate");
+  EXPECT_THAT(ate.header, ElementsAre("sequence", "none", "hoid2d", "hoid3d", "oracle"));
+  ASSERT_EQ(ate.rows.size(), 4U);
+  EXPECT_THAT(ate.rows[0], ElementsAre("walking_xyz", "0.1020", "0.0060", "0.0060", "0.0060"));
+  // Runs 1 and 3 of hoid2d finished: the median of 0.005 and 0.007.
+  EXPECT_THAT(ate.rows[1], ElementsAre("carry", "0.1020", "0.0060 (2/3)", "failed", "0.0060"));
+  EXPECT_THAT(ate.rows[2], ElementsAre("gone", "missing", "missing", "missing", "missing"));
+  EXPECT_EQ(ate.rows[3][0], "median of the sequences");
+  EXPECT_EQ(ate.rows[3][1], "–");  // not every sequence has a number
+  EXPECT_NE(ate.note.find("gone is missing: rendering failed"), std::string::npos);
+}
+
+TEST_F(BenchTables, StatisticsSweepsAndTwoAgainstThree) {
+  EXPECT_EQ(Find(tables_, "ate_statistics").rows[0][2], "0.0060 / 0.0054 / 0.0048");
+  EXPECT_EQ(Find(tables_, "ate_statistics").rows[1][3], "failed");
+  const report::Table& sweep = Find(tables_, "area_sweep");
+  EXPECT_THAT(sweep.header, ElementsAre("sequence", "0.3", "0.4"));
+  EXPECT_THAT(sweep.rows[0], ElementsAre("walking_xyz", "0.0080", "0.0060"));  // 0.4 is the plain hoid2d
+  const report::Table& versus = Find(tables_, "hoid_2d_3d");
+  EXPECT_THAT(versus.rows[0], ElementsAre("walking_xyz", "0.0060", "0.0060", "+0.0000"));
+  EXPECT_THAT(versus.rows[1], ElementsAre("carry", "0.0060 (2/3)", "failed", "–"));
+  for (const NamedTable& t : tables_) EXPECT_NE(t.name, "depth_sweep");  // none asked
+}
+
+TEST_F(BenchTables, LostExclusionQualityAndTiming) {
+  EXPECT_EQ(Find(tables_, "lost").rows[0][1], "0");  // median of 0, 0, 2
+  EXPECT_EQ(Find(tables_, "leaked").rows[0][2], "10.0 %");
+  EXPECT_EQ(Find(tables_, "wasted").rows[0][2], "20.0 %");
+  const report::Table& timing = Find(tables_, "timing");
+  EXPECT_THAT(timing.header, ElementsAre("mode", "load", "extract", "detect", "filter", "track", "tracking", "runs"));
+  EXPECT_THAT(timing.rows[1], ElementsAre("hoid2d", "10.00", "4.00", "0.10", "0.01", "2.00", "6.00", "5"));
+}
+
+}  // namespace
+}  // namespace hoidslam::bench
