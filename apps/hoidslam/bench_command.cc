@@ -134,6 +134,8 @@ void AddBenchCommand(CLI::App& app) {
       ->delimiter(',');
   command->add_option("--runs", args->options.runs, "Runs per mode and sequence; the tables show the median")
       ->capture_default_str();
+  command->add_option("--sweep-runs", args->options.sweep_runs,
+                      "Runs per swept value and sequence (default: as many as --runs)");
   command->add_option("--area-sweep", args->area_sweep,
                       "hoid2d runs at these minimum interaction areas (the paper's Table 2); none to skip")
       ->capture_default_str();

@@ -129,10 +129,10 @@ Plan MakePlan(const BenchOptions& options, std::vector<BenchSequence> sequences,
   for (std::size_t s = 0; s < plan.sequences.size(); ++s) {
     const BenchSequence& sequence = plan.sequences[s];
     if (!sequence.problem.empty()) continue;
-    std::vector<std::size_t> variants;
+    std::vector<std::pair<std::size_t, std::size_t>> variants;  // index, runs
     for (const std::string& mode : options.modes) {
       if (mode == "oracle" && !sequence.has_masks) continue;  // needs ground-truth masks
-      variants.push_back(VariantIndex(plan.variants, Variant::Plain(mode)));
+      variants.emplace_back(VariantIndex(plan.variants, Variant::Plain(mode)), options.runs);
     }
     const auto add_sweep = [&](const std::string& mode, const std::vector<double>& values, bool is_area) {
       for (const double value : values) {
@@ -140,13 +140,13 @@ Plan MakePlan(const BenchOptions& options, std::vector<BenchSequence> sequences,
         if (SameValue(value, own) && Contains(options.modes, mode)) continue;  // the plain runs measure it
         Variant variant = Variant::Plain(mode);
         (is_area ? variant.min_interaction_area : variant.depth_threshold) = value;
-        variants.push_back(VariantIndex(plan.variants, variant));
+        variants.emplace_back(VariantIndex(plan.variants, variant), options.SweepRuns());
       }
     };
     add_sweep("hoid2d", options.area_sweep, true);
     add_sweep("hoid3d", options.depth_sweep, false);
-    for (const std::size_t v : variants) {
-      for (std::size_t run = 1; run <= options.runs; ++run) {
+    for (const auto& [v, runs] : variants) {
+      for (std::size_t run = 1; run <= runs; ++run) {
         plan.runs.push_back({.id = fmt::format("{}.{}.r{}", sequence.name, plan.variants[v].Slug(), run),
                              .sequence = s,
                              .variant = v,
@@ -209,6 +209,7 @@ nlohmann::json PlanToJson(const Plan& plan) {
           {"options",
            {{"modes", o.modes},
             {"runs", o.runs},
+            {"sweep_runs", o.sweep_runs},
             {"area_sweep", o.area_sweep},
             {"depth_sweep", o.depth_sweep},
             {"frames", o.frames},
@@ -229,6 +230,7 @@ Plan PlanFromJson(const nlohmann::json& json, const fs::path& file) {
     const nlohmann::json& o = json.at("options");
     plan.options.modes = o.at("modes").get<std::vector<std::string>>();
     plan.options.runs = o.at("runs").get<std::size_t>();
+    plan.options.sweep_runs = o.at("sweep_runs").get<std::size_t>();
     plan.options.area_sweep = o.at("area_sweep").get<std::vector<double>>();
     plan.options.depth_sweep = o.at("depth_sweep").get<std::vector<double>>();
     plan.options.frames = o.at("frames").get<std::size_t>();

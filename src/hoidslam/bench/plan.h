@@ -36,6 +36,7 @@ struct BenchSequence {
 struct BenchOptions {
   std::vector<std::string> modes = {"none", "person", "classes", "hoid2d", "hoid3d", "oracle"};
   std::size_t runs = 5;                                // per mode and sequence; tables show the median
+  std::size_t sweep_runs = 0;                          // per swept value and sequence; 0: as many as `runs`
   std::vector<double> area_sweep = {0.2, 0.3, 0.4, 0.5};  // hoid2d at these HOID.minInteractionArea (Table 2)
   std::vector<double> depth_sweep = {0.1, 0.2, 0.3, 0.5};  // hoid3d at these HOID.depthThreshold (m)
   std::size_t frames = 0;         // `run --frames`: only the first N frames (0 = all)
@@ -46,6 +47,7 @@ struct BenchOptions {
   std::size_t snapshots = 6;      // annotated frames in the first run of each mode and sequence
   double timeout_seconds = 3600;  // a run taking longer is stopped and recorded as failed (0 = no limit)
 
+  std::size_t SweepRuns() const { return sweep_runs == 0 ? runs : sweep_runs; }
   // Throws InputError naming the command-line parameter of a bad value.
   void Check() const;
 };

@@ -64,6 +64,18 @@ TEST(MakePlan, ModesThenSweepValuesNotAlreadyMeasuredByThePlainRuns) {
   EXPECT_EQ(plan.SweepVariant("hoid3d", 0.7, false, plan.sequences[0]), std::nullopt);
 }
 
+TEST(MakePlan, SweepsCanHaveFewerRuns) {
+  BenchOptions options;
+  options.runs = 5;
+  options.sweep_runs = 2;
+  options.modes = {"hoid2d"};
+  options.area_sweep = {0.3};
+  options.depth_sweep = {};
+  const Plan plan = MakePlan(options, {Synthetic("carry")}, "/bin/hoidslam", "/b");
+  EXPECT_EQ(RunsOf(plan, "carry", "hoid2d"), 5U);
+  EXPECT_EQ(RunsOf(plan, "carry", "hoid2d area=0.3"), 2U);
+}
+
 TEST(MakePlan, OracleOnlyWhereMasksExistAndNothingForABrokenSequence) {
   BenchOptions options;
   options.runs = 1;

@@ -88,8 +88,8 @@ std::vector<std::size_t> PlainVariants(const Plan& plan) {
   return variants;
 }
 
-std::string RunsNote(const Plan& plan) {
-  std::string note = fmt::format("Median of {} run{} per cell", plan.options.runs, plan.options.runs == 1 ? "" : "s");
+std::string RunsNote(const Plan& plan, std::size_t runs) {
+  std::string note = fmt::format("Median of {} run{} per cell", runs, runs == 1 ? "" : "s");
   if (plan.options.deterministic) note += " (deterministic mode)";
   note += "; (k/n): only k of n runs finished; failed: no run finished; –: not applicable.";
   for (const BenchSequence& s : plan.sequences) {
@@ -102,7 +102,8 @@ using CellText = std::function<std::string(std::size_t sequence, std::size_t var
 
 // Rows: sequences; columns: the plain modes.
 report::Table PerMode(const Plan& plan, std::string title, const CellText& cell) {
-  report::Table table{.title = std::move(title), .note = RunsNote(plan), .header = {"sequence"}, .rows = {}};
+  report::Table table{
+      .title = std::move(title), .note = RunsNote(plan, plan.options.runs), .header = {"sequence"}, .rows = {}};
   for (const std::size_t v : PlainVariants(plan)) table.header.push_back(plan.variants[v].Name());
   for (std::size_t s = 0; s < plan.sequences.size(); ++s) {
     std::vector<std::string> row = {plan.sequences[s].name};
@@ -134,7 +135,8 @@ report::Table PerMode(const Plan& plan, const Grid& grid, std::string title, con
 
 report::Table Sweep(const Plan& plan, const Grid& grid, const std::string& mode, const std::vector<double>& values,
                     bool is_area, std::string title) {
-  report::Table table{.title = std::move(title), .note = RunsNote(plan), .header = {"sequence"}, .rows = {}};
+  report::Table table{.title = std::move(title), .note = RunsNote(plan, plan.options.SweepRuns()), .header = {"sequence"},
+                      .rows = {}};
   for (const double value : values) table.header.push_back(fmt::format("{}", value));
   const Value ate = [](const RunResult& r) { return r.ate_rmse; };
   for (std::size_t s = 0; s < plan.sequences.size(); ++s) {
@@ -173,7 +175,7 @@ std::vector<NamedTable> BuildTables(const Plan& plan, const std::vector<RunResul
 
   if (has_mode("hoid2d") && has_mode("hoid3d")) {
     report::Table table{.title = "2D against 3D interaction test: ATE RMSE (m), as in the paper's Table 6",
-                        .note = RunsNote(plan),
+                        .note = RunsNote(plan, plan.options.runs),
                         .header = {"sequence", "hoid2d", "hoid3d", "3D − 2D"},
                         .rows = {}};
     const std::size_t v2 = *PlainVariant(plan, "hoid2d");
