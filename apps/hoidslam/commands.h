@@ -7,6 +7,7 @@
 namespace hoidslam::apps {
 
 void AddBenchCommand(CLI::App& app);
+void AddDemoCommand(CLI::App& app);
 void AddDetectCommand(CLI::App& app);
 void AddEvalCommand(CLI::App& app);
 void AddRunCommand(CLI::App& app);

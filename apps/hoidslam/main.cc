@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   });
 
   hoidslam::apps::AddBenchCommand(app);
+  hoidslam::apps::AddDemoCommand(app);
   hoidslam::apps::AddDetectCommand(app);
   hoidslam::apps::AddEvalCommand(app);
   hoidslam::apps::AddRunCommand(app);
