@@ -1,12 +1,15 @@
 // End-to-end tests of the hoidslam tool as a user runs it: exit status, the one error line on stderr naming the
 // file / line / parameter, and outputs that are complete or absent.
 #include <algorithm>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include "cli_test_support.h"
 #include "support/shared_data.h"
@@ -292,6 +295,68 @@ TEST(CliRun, NamesWhatIsMissingAndWritesNothing) {
   ExpectOneErrorLine(RunHoidslam(scratch, {"run", sequence.string(), "--detections", (scratch / "other.jsonl").string(),
                                            "--out", out.string()}),
                      "other.jsonl");
+  EXPECT_FALSE(fs::exists(out));
+}
+
+// ---- hoidslam masks --------------------------------------------------------------------------------------------
+
+TEST(CliMasks, WritesAMaskPerFrameNamedLikeTheColourImagesAndAList) {
+  const testing::TempDir scratch;
+  // Every 4th frame of walking_xyz: people come into view from about the 25th.
+  const fs::path sequence = Render(scratch, "walking_xyz", 32, 4);
+  const fs::path out = scratch / "masks";
+  const RunResult masks = RunHoidslam(
+      scratch, {"masks", sequence.string(), "--format", "stella", "--frames", "30", "--out", out.string()});
+  ASSERT_EQ(masks.exit_status, 0) << masks.err;
+  EXPECT_THAT(masks.out, HasSubstr("walking_xyz: 30 masks (hoid2d, format stella) in "));
+  EXPECT_THAT(masks.out, HasSubstr("% of the pixels masked on average"));
+
+  // masks.txt: two comment lines, then `timestamp file` for each frame, as rgb.txt lists the colour images.
+  std::vector<std::string> lines;
+  std::istringstream list(ReadText(out / "masks.txt"));
+  for (std::string line; std::getline(list, line);) {
+    if (!line.starts_with("#")) lines.push_back(line);
+  }
+  ASSERT_EQ(lines.size(), 30U);
+  std::size_t frames_with_masked_pixels = 0;
+  std::size_t frames_clear = 0;  // before people come into view
+  for (const std::string& line : lines) {
+    const std::string stamp = line.substr(0, line.find(' '));
+    const std::string file = stamp + ".png";
+    ASSERT_EQ(line, stamp + " " + file);
+    EXPECT_TRUE(fs::exists(sequence / "rgb" / file)) << file;
+    const cv::Mat mask = cv::imread((out / file).string(), cv::IMREAD_UNCHANGED);
+    ASSERT_EQ(mask.type(), CV_8UC1) << file;
+    ASSERT_EQ(mask.size(), cv::Size(640, 480)) << file;
+    // stella: 0 where features are dropped (never most of the frame here), 255 elsewhere.
+    const int masked = cv::countNonZero(mask == 0);
+    EXPECT_EQ(masked + cv::countNonZero(mask == 255), 640 * 480) << file;
+    EXPECT_LT(masked, 640 * 480 / 2) << file;
+    frames_with_masked_pixels += masked > 0 ? 1 : 0;
+    frames_clear += masked == 0 ? 1 : 0;
+  }
+  EXPECT_GT(frames_with_masked_pixels, 0U);
+  EXPECT_GT(frames_clear, 0U);
+  EXPECT_EQ(std::distance(fs::directory_iterator(out), fs::directory_iterator()), 31);  // 30 masks + masks.txt
+}
+
+TEST(CliMasks, NamesWhatIsWrongAndWritesNothing) {
+  const testing::TempDir scratch;
+  const fs::path out = scratch / "masks";
+  ExpectOneErrorLine(RunHoidslam(scratch, {"masks", (scratch / "nowhere").string(), "--out", out.string()}),
+                     "nowhere");
+  HOIDSLAM_SHARED_PATH_OR_SKIP(sequence, "data/tum/fr3_walking_xyz_pair");
+  // A filter that needs boxes, with no detector.
+  ExpectOneErrorLine(RunHoidslam(scratch, {"masks", sequence.string(), "--filter", "hoid2d", "--detector", "none",
+                                           "--out", out.string()}),
+                     "--filter");
+  // A real recording has no ground-truth moving masks.
+  ExpectOneErrorLine(RunHoidslam(scratch, {"masks", sequence.string(), "--filter", "oracle", "--out", out.string()}),
+                     "mask");
+  ExpectOneErrorLine(RunHoidslam(scratch, {"masks", sequence.string(), "--dilate", "-3", "--out", out.string()}),
+                     "--dilate");
+  ExpectOneErrorLine(RunHoidslam(scratch, {"masks", sequence.string(), "--format", "orbslam", "--out", out.string()}),
+                     "--format");
   EXPECT_FALSE(fs::exists(out));
 }
 

@@ -10,6 +10,7 @@ void AddBenchCommand(CLI::App& app);
 void AddDemoCommand(CLI::App& app);
 void AddDetectCommand(CLI::App& app);
 void AddEvalCommand(CLI::App& app);
+void AddMasksCommand(CLI::App& app);
 void AddRunCommand(CLI::App& app);
 void AddSynthCommand(CLI::App& app);
 

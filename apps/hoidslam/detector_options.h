@@ -1,11 +1,18 @@
 #pragma once
-// The ONNX detector's command-line options, shared by every command that runs a detector.
+// The detector's command-line options, shared by every command that runs a detector: the ONNX model's options,
+// and, for the commands that run the HOID filter (run, masks), the choice among a model, a detections file and
+// none.
 
 #include <string>
 
 #include <CLI/CLI.hpp>
 
+#include "sequence_options.h"
+#include "hoidslam/detect/file_detector.h"
+#include "hoidslam/detect/make_detector.h"
 #include "hoidslam/detect/onnx_detector.h"
+#include "hoidslam/io/rgbd_sequence.h"
+#include "hoidslam/pipeline/exclusion.h"
 
 namespace hoidslam::apps {
 
@@ -22,5 +29,24 @@ struct OnnxArgs {
 
 // Adds --model (required when `model_required`), --conf, --nms, --input-size, --layout, --names.
 void AddOnnxOptions(CLI::App& command, OnnxArgs& args, bool model_required);
+
+struct DetectorArgs {
+  std::string kind;        // --detector: none | onnx | file; empty: chosen from the other options
+  OnnxArgs onnx;
+  std::string detections;  // --detections; default <dataset>/detections.jsonl
+};
+
+// Adds --detector, the ONNX options (--model optional) and --detections.
+void AddDetectorOptions(CLI::App& command, DetectorArgs& args);
+
+// The detector the options ask for. Without --detector: onnx when a model is given, the detections file when one
+// is given or the dataset has detections.jsonl (and the filter needs boxes), else none. Throws InputError naming
+// the parameter when a filter that needs boxes gets no detector, or --detector file no file.
+detect::DetectorOptions ChooseDetector(const DetectorArgs& args, const SequenceArgs& sequence,
+                                       const pipeline::ExclusionOptions& exclusion);
+
+// A detections file meant for another sequence fails now (InputError naming the file); one that lacks a few
+// frames is only reported (those frames reuse the previous frame's detections).
+void CheckDetectionsFile(const detect::FileDetector& detector, const io::RgbdSequence& sequence);
 
 }  // namespace hoidslam::apps

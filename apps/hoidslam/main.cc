@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   hoidslam::apps::AddDemoCommand(app);
   hoidslam::apps::AddDetectCommand(app);
   hoidslam::apps::AddEvalCommand(app);
+  hoidslam::apps::AddMasksCommand(app);
   hoidslam::apps::AddRunCommand(app);
   hoidslam::apps::AddSynthCommand(app);
 

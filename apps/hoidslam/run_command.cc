@@ -17,8 +17,6 @@
 #include "sequence_options.h"
 #include "hoidslam/core/error.h"
 #include "hoidslam/core/interrupt.h"
-#include "hoidslam/detect/file_detector.h"
-#include "hoidslam/detect/make_detector.h"
 #include "hoidslam/eval/evaluation.h"
 #include "hoidslam/eval/statistics.h"
 #include "hoidslam/io/atomic_file.h"
@@ -33,9 +31,7 @@ namespace fs = std::filesystem;
 struct RunArgs {
   SequenceArgs sequence;
   std::string settings;
-  std::string detector;    // none | onnx | file; empty: chosen from the other options
-  OnnxArgs onnx;
-  std::string detections;  // detections file; default <dataset>/detections.jsonl
+  DetectorArgs detector;
   std::string filter;      // overrides HOID.mode
   std::optional<double> min_interaction_area;  // overrides HOID.minInteractionArea
   std::optional<double> depth_threshold;       // overrides HOID.depthThreshold
@@ -45,48 +41,6 @@ struct RunArgs {
   bool deterministic = false;
   bool force = false;
 };
-
-// The detector the options ask for. Without --detector: onnx when a model is given, the detections file when one
-// is given or the dataset has detections.jsonl, else none.
-detect::DetectorOptions ChooseDetector(const RunArgs& args, const pipeline::ExclusionOptions& exclusion) {
-  detect::DetectorOptions options;
-  options.onnx = args.onnx.ToOptions();
-  fs::path detections = args.detections;
-  if (detections.empty() && !args.sequence.dataset.empty()) {
-    const fs::path beside = fs::path(args.sequence.dataset) / "detections.jsonl";
-    if (fs::exists(beside)) detections = beside;
-  }
-  options.detections_file = detections;
-  if (!args.detector.empty()) {
-    options.kind = detect::ParseDetectorKind(args.detector, "--detector");
-  } else if (!args.onnx.model.empty()) {
-    options.kind = detect::DetectorKind::kOnnx;
-  } else if (!detections.empty() && exclusion.NeedsDetections()) {
-    options.kind = detect::DetectorKind::kFile;
-  }
-  if (options.kind == detect::DetectorKind::kFile && detections.empty()) {
-    throw core::InputError::ForParameter("--detections", "--detector file needs a detections file");
-  }
-  if (options.kind == detect::DetectorKind::kNone && exclusion.NeedsDetections()) {
-    throw core::InputError::ForParameter(
-        "--filter", fmt::format("mode {} needs detections: give --model M.onnx or --detections F.jsonl (or use "
-                                "--filter none)",
-                                exclusion.ModeName()));
-  }
-  return options;
-}
-
-// A detections file meant for another sequence fails now; one that lacks a few frames is only reported (those
-// frames reuse the previous frame's detections during the run).
-void CheckDetectionsFile(const detect::FileDetector& detector, const io::RgbdSequence& sequence) {
-  std::size_t missing = 0;
-  for (const double t : sequence.Timestamps()) missing += detector.file().Find(t) == nullptr ? 1 : 0;
-  if (missing == sequence.size()) detector.CheckCovers(sequence.Timestamps(), sequence.name());  // throws
-  if (missing > 0) {
-    spdlog::warn("{}: no detections for {} of the {} frames; those frames use the previous frame's detections",
-                 detector.file().path().string(), missing, sequence.size());
-  }
-}
 
 // The median over the frames of one stage's time (or of a function of the stage times), in ms.
 double MedianMs(const std::vector<pipeline::StageTimes>& times, const std::function<double(const pipeline::StageTimes&)>& of) {
@@ -148,7 +102,7 @@ void RunRun(const RunArgs& args) {
 
   const io::RgbdSequence sequence =
       OpenSequence(args.sequence, settings ? std::optional(settings->depth_map_factor) : std::nullopt);
-  const detect::DetectorOptions detector_options = ChooseDetector(args, options.exclusion);
+  const detect::DetectorOptions detector_options = ChooseDetector(args.detector, args.sequence, options.exclusion);
   std::unique_ptr<detect::Detector> detector = detect::MakeDetector(detector_options);
   if (const auto* file = dynamic_cast<const detect::FileDetector*>(detector.get())) CheckDetectionsFile(*file, sequence);
 
@@ -214,13 +168,7 @@ void AddRunCommand(CLI::App& app) {
   AddSequenceOptions(*command, args->sequence);
   command->add_option("--settings", args->settings,
                       "Settings file (ORB-SLAM3 format with a HOID section, e.g. config/TUM3.yaml; default: TUM fr3)");
-  command->add_option("--detector", args->detector,
-                      "none, onnx (--model) or file (--detections); default: onnx with --model, else the detections "
-                      "file when there is one, else none")
-      ->check(CLI::IsMember({"none", "onnx", "file"}));
-  AddOnnxOptions(*command, args->onnx, /*model_required=*/false);
-  command->add_option("--detections", args->detections,
-                      "Detections file to replay (default: detections.jsonl of the dataset folder, when present)");
+  AddDetectorOptions(*command, args->detector);
   command->add_option("--filter", args->filter,
                       "What is dropped: none, person, classes, hoid2d, hoid3d, or oracle (the ground-truth moving "
                       "masks of a synthetic sequence); default: HOID.mode of the settings, else hoid2d");
