@@ -8,6 +8,7 @@ namespace hoidslam::apps {
 
 void AddDetectCommand(CLI::App& app);
 void AddEvalCommand(CLI::App& app);
+void AddReportCommand(CLI::App& app);
 void AddRunCommand(CLI::App& app);
 void AddSynthCommand(CLI::App& app);
 
