@@ -231,7 +231,7 @@ void Compare(const fs::path& groundtruth, const fs::path& estimate_file, RunRepo
 // ---- Writing -----------------------------------------------------------------------------------------------------
 
 constexpr std::string_view kStyle = R"(
-:root { --ink: #222; --muted: #666; --rule: #e3e5e8; --accent: #0072B2; }
+:root { --ink: #222; --muted: #666; --rule: #e3e5e8; --accent: #8797ab; }
 * { box-sizing: border-box; }
 body { margin: 0; background: #f4f5f7; color: var(--ink);
        font: 15px/1.5 system-ui, -apple-system, "Segoe UI", Roboto, Helvetica, Arial, sans-serif; }
