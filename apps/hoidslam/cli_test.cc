@@ -40,7 +40,8 @@ struct RunResult {
 
 
 // Runs `program` (found on PATH when it has no '/') with `args`, stdout and stderr captured in files of `scratch`.
-RunResult RunProgram(const testing::TempDir& scratch, const std::string& program, const std::vector<std::string>& args) {
+RunResult RunProgram(const testing::TempDir& scratch, const std::string& program,
+                     const std::vector<std::string>& args) {
   const fs::path out = scratch / "stdout.txt";
   const fs::path err = scratch / "stderr.txt";
   posix_spawn_file_actions_t actions;
@@ -384,7 +385,8 @@ std::size_t DistinctColours(const cv::Mat& image) {
 
 TEST(CliReport, NamesWhatIsMissing) {
   const testing::TempDir scratch;
-  ExpectOneErrorLine(RunHoidslam(scratch, {"report", (scratch / "no_such_run").string()}), "no_such_run: no such folder");
+  ExpectOneErrorLine(RunHoidslam(scratch, {"report", (scratch / "no_such_run").string()}),
+                     "no_such_run: no such folder");
   fs::create_directories(scratch / "empty");
   ExpectOneErrorLine(RunHoidslam(scratch, {"report", (scratch / "empty").string()}), "summary.json: not found");
   EXPECT_FALSE(fs::exists(scratch / "empty" / "report.html"));

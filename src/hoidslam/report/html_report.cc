@@ -8,7 +8,6 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
-#include <sstream>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -339,7 +338,8 @@ std::string Header(const RunReport& report) {
                  fmt::format("max {} m, {} poses", FormatSignificant(e.ate.error.max, 3), e.ate.error.count));
     html += Card("RPE translation", FormatSignificant(e.rpe.translation.rmse, 3) + " m",
                  "RMSE " + RpeStep(e.options.rpe));
-    html += Card("RPE rotation", FormatSignificant(e.rpe.rotation_deg.rmse, 3) + " °", "RMSE " + RpeStep(e.options.rpe));
+    html += Card("RPE rotation", FormatSignificant(e.rpe.rotation_deg.rmse, 3) + " °",
+                 "RMSE " + RpeStep(e.options.rpe));
   }
   if (report.median_tracking_ms) {
     html += Card("tracking time", FormatSignificant(*report.median_tracking_ms, 3) + " ms",
@@ -358,7 +358,8 @@ Table ErrorTable(const eval::Evaluation& evaluation) {
   Table table;
   table.title = "Error against ground truth";
   table.note = fmt::format("ground truth {}; ATE after {} alignment, as TUM's evaluate_ate.py",
-                           evaluation.groundtruth_path.string(), evaluation.options.ate.estimate_scale ? "Sim(3)" : "rigid");
+                           evaluation.groundtruth_path.string(),
+                           evaluation.options.ate.estimate_scale ? "Sim(3)" : "rigid");
   table.header = {"", "rmse", "mean", "median", "max", "pairs"};
   const auto row = [](std::string name, const eval::ErrorStatistics& s) {
     return std::vector<std::string>{std::move(name),        FormatSignificant(s.rmse, 3), FormatSignificant(s.mean, 3),
@@ -366,7 +367,8 @@ Table ErrorTable(const eval::Evaluation& evaluation) {
                                     std::to_string(s.count)};
   };
   const std::string step = RpeStep(evaluation.options.rpe);
-  table.rows = {row("ATE (m)", evaluation.ate.error), row("RPE translation (m " + step + ")", evaluation.rpe.translation),
+  table.rows = {row("ATE (m)", evaluation.ate.error),
+                row("RPE translation (m " + step + ")", evaluation.rpe.translation),
                 row("RPE rotation (° " + step + ")", evaluation.rpe.rotation_deg)};
   return table;
 }
@@ -384,8 +386,9 @@ std::string TrajectorySection(const RunReport& report) {
   }
   std::string html = "<section>\n<h2>Trajectory</h2>\n<div class=\"row\">\n";
   html += Figure(PathPlot(paths, trajectory_options),
-                 report.comparison ? "The estimate aligned onto the ground truth as for ATE; a dot marks the start."
-                                   : "Camera positions as estimated (frame of the first camera); a dot marks the start.");
+                 report.comparison
+                     ? "The estimate aligned onto the ground truth as for ATE; a dot marks the start."
+                     : "Camera positions as estimated (frame of the first camera); a dot marks the start.");
   if (report.comparison) {
     // Frames without a pose break the line, so a loss of tracking shows as a gap.
     const double t0 = StartTime(report);
@@ -474,8 +477,9 @@ std::string ExclusionSection(const RunReport& report) {
   }
   if (per_frame) {
     const double t0 = StartTime(report);
-    std::vector<LineSeries> series = {{.name = "moving keypoints kept (leaked)", .colour = std::string(PaletteColour(1))},
-                                      {.name = "static keypoints dropped (wasted)", .colour = std::string(PaletteColour(4))}};
+    std::vector<LineSeries> series = {
+        {.name = "moving keypoints kept (leaked)", .colour = std::string(PaletteColour(1))},
+        {.name = "static keypoints dropped (wasted)", .colour = std::string(PaletteColour(4))}};
     for (const FrameRecord& frame : report.frame_log) {
       const double t = frame.timestamp - t0;
       series[0].x.push_back(t);

@@ -32,7 +32,9 @@ Eigen::Vector3d Position(int i) { return {0.3 * i, 0.2 * std::sin(i), 0.1 * i * 
 double Stamp(int i) { return 100.0 + 0.5 * i; }
 
 // The ground-truth world: the estimate's frame turned 90 degrees about z and moved.
-Eigen::Vector3d ToGroundTruth(const Eigen::Vector3d& p) { return Eigen::Vector3d(-p.y(), p.x(), p.z()) + Eigen::Vector3d(1, 2, 3); }
+Eigen::Vector3d ToGroundTruth(const Eigen::Vector3d& p) {
+  return Eigen::Vector3d(-p.y(), p.x(), p.z()) + Eigen::Vector3d(1, 2, 3);
+}
 
 constexpr std::string_view kSummary = R"({"sequence": "tiny", "filter": "hoid2d", "detector": "detections.jsonl",
   "frames": 6, "tracked": 5, "lost": 1, "before_initialization": 0, "keyframes": 2, "map_points": 321,
@@ -297,7 +299,8 @@ TEST(RenderBenchHtml, HoldsTheIntroAndEverySection) {
 }
 
 TEST(AteBarChartSvg, MarksMissingRunsAndUsesALogAxisForWideRanges) {
-  const std::string wide = AteBarChartSvg({"walking_xyz", "carry"}, {"hoid2d", "none"}, {{0.0035, 0.18}, {0.0076, kNaN}});
+  const std::string wide =
+      AteBarChartSvg({"walking_xyz", "carry"}, {"hoid2d", "none"}, {{0.0035, 0.18}, {0.0076, kNaN}});
   EXPECT_EQ(report::testing::UnbalancedTags(wide), "");
   EXPECT_THAT(wide, HasSubstr("log scale"));
   EXPECT_THAT(wide, HasSubstr(">×</text>"));

@@ -27,7 +27,8 @@ inline std::string UnbalancedTags(std::string_view markup) {
     const bool closing = tag.starts_with('/');
     const std::string_view body = closing ? tag.substr(1) : tag;
     const std::string name(body.substr(0, body.find_first_of(" \n/")));
-    if (name.empty() || !std::all_of(name.begin(), name.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)); })) {
+    const auto is_name_char = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0; };
+    if (name.empty() || !std::all_of(name.begin(), name.end(), is_name_char)) {
       return "stray '<' at " + std::to_string(pos) + ": " + std::string(markup.substr(pos, 20));
     }
     pos = end + 1;
