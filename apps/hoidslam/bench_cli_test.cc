@@ -84,9 +84,16 @@ TEST(CliBench, APlannedSweepRunThroughGnuParallelGivesTheDirectBenchsTables) {
   EXPECT_EQ(leaked["header"], (nlohmann::json{"sequence", "none", "hoid2d"}));
   EXPECT_EQ(leaked["rows"][0][1], "100.0 %");
   EXPECT_EQ(Table(direct_results, "area_sweep")["rows"][0][2], Table(direct_results, "ate")["rows"][0][2]);
-  for (const char* file : {"tables.md", "tables/ate.csv", "tables/area_sweep.csv", "plan.json"}) {
+  for (const char* file : {"tables.md", "tables/ate.csv", "tables/area_sweep.csv", "plan.json",
+                           "runs/walking_xyz.hoid2d.r1/report.html"}) {
     EXPECT_TRUE(fs::exists(scratch / "direct" / file)) << file;
   }
+  // The bench's page: the ATE chart, every table, and the trajectories of none and hoid2d over the ground truth.
+  const std::string page = testing::ReadText(scratch / "direct" / "report.html");
+  EXPECT_THAT(page, HasSubstr("ATE RMSE (m) per filter mode"));
+  EXPECT_THAT(page, HasSubstr("Exclusion quality"));
+  EXPECT_THAT(page, HasSubstr("walking_xyz hoid2d"));
+  EXPECT_NE(page.find("<svg"), std::string::npos);
 }
 
 TEST(CliBench, FailuresAreRecordedAsFailuresAndResumeRunsOnlyWhatIsLeft) {

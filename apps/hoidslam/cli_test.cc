@@ -1,6 +1,7 @@
 // End-to-end tests of the hoidslam tool as a user runs it: exit status, the one error line on stderr naming the
 // file / line / parameter, and outputs that are complete or absent.
 #include <algorithm>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -10,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "cli_test_support.h"
 #include "support/shared_data.h"
@@ -29,7 +31,7 @@ using ::testing::StartsWith;
 TEST(Cli, NoCommandIsAnErrorAndHelpIsNot) {
   const testing::TempDir scratch;
   EXPECT_NE(RunHoidslam(scratch, {}).exit_status, 0);
-  for (const char* command : {"detect", "eval", "run", "synth"}) {
+  for (const char* command : {"detect", "eval", "report", "run", "synth"}) {
     const RunResult help = RunHoidslam(scratch, {command, "--help"});
     EXPECT_EQ(help.exit_status, 0) << command;
     EXPECT_THAT(help.out, HasSubstr("Usage")) << command;
@@ -358,6 +360,88 @@ TEST(CliMasks, NamesWhatIsWrongAndWritesNothing) {
   ExpectOneErrorLine(RunHoidslam(scratch, {"masks", sequence.string(), "--format", "orbslam", "--out", out.string()}),
                      "--format");
   EXPECT_FALSE(fs::exists(out));
+}
+
+// ---- hoidslam report -------------------------------------------------------------------------------------------
+
+// The pixels of `image` (BGR) within `tolerance` of "#rrggbb" in every channel.
+cv::Mat ColourMask(const cv::Mat& image, const std::string& hex, int tolerance) {
+  const cv::Scalar colour(std::stoi(hex.substr(5, 2), nullptr, 16), std::stoi(hex.substr(3, 2), nullptr, 16),
+                          std::stoi(hex.substr(1, 2), nullptr, 16));
+  cv::Mat mask;
+  cv::inRange(image, colour - cv::Scalar::all(tolerance), colour + cv::Scalar::all(tolerance), mask);
+  return mask;
+}
+
+// Distinct colours of `image` (BGR), each channel in 16 steps.
+std::size_t DistinctColours(const cv::Mat& image) {
+  std::set<int> colours;
+  for (auto it = image.begin<cv::Vec3b>(); it != image.end<cv::Vec3b>(); ++it) {
+    colours.insert(((*it)[0] >> 4) << 8 | ((*it)[1] >> 4) << 4 | (*it)[2] >> 4);
+  }
+  return colours.size();
+}
+
+TEST(CliReport, NamesWhatIsMissing) {
+  const testing::TempDir scratch;
+  ExpectOneErrorLine(RunHoidslam(scratch, {"report", (scratch / "no_such_run").string()}),
+                     "no_such_run: no such folder");
+  fs::create_directories(scratch / "empty");
+  ExpectOneErrorLine(RunHoidslam(scratch, {"report", (scratch / "empty").string()}), "summary.json: not found");
+  EXPECT_FALSE(fs::exists(scratch / "empty" / "report.html"));
+}
+
+// The whole way a user goes: render, run, report, and look at the page in a real browser.
+TEST(CliReport, TheReportOfARunShowsItsChartsInABrowser) {
+  const std::string chromium = HOIDSLAM_CHROMIUM;
+  if (chromium.empty()) {
+    FAIL() << "no chromium was found when the build was configured: install the Debian package chromium "
+              "(scripts/setup.sh does) and configure again";
+  }
+  const testing::TempDir scratch;
+  const fs::path sequence = Render(scratch, "walking_xyz", 120, 2);
+  const fs::path run = scratch / "run";
+  const RunResult ran = RunHoidslam(scratch, {"run", sequence.string(), "--filter", "hoid2d", "--out", run.string()});
+  ASSERT_EQ(ran.exit_status, 0) << ran.err;
+  EXPECT_TRUE(fs::exists(run / "report.html"));  // run writes its own report; `report` writes it again
+
+  // Without --groundtruth: the file the run was evaluated against; without --out: report.html in the run folder.
+  const RunResult report = RunHoidslam(scratch, {"report", run.string()});
+  ASSERT_EQ(report.exit_status, 0) << report.err;
+  EXPECT_THAT(report.out, HasSubstr("ground truth " + (sequence / "groundtruth.txt").string()));
+  const fs::path html = run / "report.html";
+  EXPECT_THAT(ReadText(html), HasSubstr("ATE over time"));
+
+  const fs::path png = scratch / "report.png";
+  const RunResult browser = RunProgram(
+      scratch,
+      {"timeout", "--kill-after=10", "120", chromium, "--headless", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
+       "--disable-background-networking", "--no-first-run", "--user-data-dir=" + (scratch / "chromium").string(),
+       "--hide-scrollbars", "--window-size=1280,2000", "--screenshot=" + png.string(), "file://" + html.string()});
+  ASSERT_EQ(browser.exit_status, 0) << browser.err;
+  const cv::Mat shot = cv::imread(png.string(), cv::IMREAD_COLOR);
+  ASSERT_FALSE(shot.empty()) << png << ": " << browser.err;
+  EXPECT_EQ(shot.size(), cv::Size(1280, 2000));
+  // A page, not a blank: light and dark pixels, and many colours (text, charts).
+  cv::Scalar mean, deviation;
+  cv::meanStdDev(shot, mean, deviation);
+  EXPECT_GT(deviation[0], 20.0);
+  EXPECT_GT(DistinctColours(shot), 50U);
+  // The trajectory plot: the ground truth's wide light grey line (html_report.cc, kGroundTruthColour), and on it
+  // the aligned estimate in the first chart colour (PaletteColour(0)). Lines at least two pixels wide only, not
+  // the grey edges of anti-aliased text.
+  cv::Mat groundtruth = ColourMask(shot, "#bbbbbb", 4);
+  cv::erode(groundtruth, groundtruth, cv::Mat::ones(2, 2, CV_8U));
+  ASSERT_GT(cv::countNonZero(groundtruth), 50);
+  const cv::Rect plot = cv::boundingRect(groundtruth);
+  EXPECT_LT(plot.area(), shot.size().area() / 4) << plot;  // one figure, not grey all over the page
+  EXPECT_GT(cv::countNonZero(ColourMask(shot(plot), "#0072B2", 12)), 200) << plot;
+
+  // Ground truth that cannot be read: one error naming it, and no page.
+  const RunResult bad = RunHoidslam(scratch, {"report", run.string(), "--groundtruth", (scratch / "gt.txt").string(),
+                                              "--out", (scratch / "other.html").string()});
+  ExpectOneErrorLine(bad, (scratch / "gt.txt").string());
+  EXPECT_FALSE(fs::exists(scratch / "other.html"));
 }
 
 }  // namespace

@@ -30,7 +30,7 @@ RunResult RunProgram(const testing::TempDir& scratch, const std::vector<std::str
   for (std::string& arg : strings) argv.push_back(arg.data());
   argv.push_back(nullptr);
   pid_t pid = 0;
-  const int spawned = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+  const int spawned = posix_spawnp(&pid, argv[0], &actions, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
   RunResult result;
   if (spawned != 0) return result;

@@ -21,7 +21,7 @@ struct RunResult {
 // Runs the built hoidslam with `args`, stdout and stderr captured in files of `scratch`.
 RunResult RunHoidslam(const testing::TempDir& scratch, const std::vector<std::string>& args);
 
-// Runs `argv` (argv[0] an absolute path) the same way, e.g. GNU parallel.
+// Runs `argv` the same way, e.g. GNU parallel or a browser; argv[0] is looked up on PATH when it has no '/'.
 RunResult RunProgram(const testing::TempDir& scratch, const std::vector<std::string>& argv);
 
 // The one line a user sees for bad input: "error: ..." and nothing else on stderr, exit status 1.

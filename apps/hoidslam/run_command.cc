@@ -22,6 +22,7 @@
 #include "hoidslam/io/atomic_file.h"
 #include "hoidslam/io/settings.h"
 #include "hoidslam/pipeline/run.h"
+#include "hoidslam/report/html_report.h"
 
 namespace hoidslam::apps {
 namespace {
@@ -128,6 +129,11 @@ void RunRun(const RunArgs& args) {
     file.stream() << json.dump(2) << '\n';
     file.Commit();
   }
+  try {
+    report::WriteRunReport(out.temporary(), evaluation ? groundtruth : fs::path(), out.temporary() / "report.html");
+  } catch (const core::InputError& e) {
+    spdlog::warn("no report.html: {}", e.what());  // the run's own outputs are complete; only the page is missing
+  }
   out.Commit();
 
   fmt::print("{}: {} frames, {} tracked, {} lost, {} before initialisation; {} keyframes, {} map points\n",
@@ -147,7 +153,7 @@ void RunRun(const RunArgs& args) {
              ms["load"].get<double>(), ms["extract"].get<double>(), ms["detect"].get<double>(),
              ms["filter"].get<double>(), ms["track"].get<double>(), ms["tracking_total"].get<double>());
   if (evaluation) fmt::print("{}", eval::FormatEvaluation(*evaluation));
-  fmt::print("wrote {}/ (trajectory.txt, keyframes.txt, map.ply, frames.jsonl, summary.json, snapshots/)\n",
+  fmt::print("wrote {}/ (trajectory.txt, keyframes.txt, map.ply, frames.jsonl, summary.json, snapshots/, report.html)\n",
              out.path().string());
   if (summary.interrupted) {
     spdlog::warn("interrupted after {} of {} frames; the outputs hold the frames done", summary.frames, sequence.size());

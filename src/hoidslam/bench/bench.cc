@@ -1,6 +1,8 @@
 #include "hoidslam/bench/bench.h"
 
 #include <algorithm>
+#include <cmath>
+#include <optional>
 #include <fstream>
 #include <thread>
 
@@ -15,6 +17,7 @@
 #include "hoidslam/core/stopwatch.h"
 #include "hoidslam/io/atomic_file.h"
 #include "hoidslam/io/files.h"
+#include "hoidslam/report/html_report.h"
 
 namespace hoidslam::bench {
 namespace {
@@ -140,6 +143,26 @@ std::string DescribeResult(const RunResult& result) {
   return text;
 }
 
+const report::Table* FindTable(const BenchOutcome& outcome, const std::string& name) {
+  for (const NamedTable& named : outcome.tables) {
+    if (named.name == name) return &named.table;
+  }
+  return nullptr;
+}
+
+// The first finished run of `mode` (its plain variant) on sequence `s`.
+std::optional<std::size_t> FirstFinishedRun(const BenchOutcome& outcome, std::size_t s, const std::string& mode) {
+  const Plan& plan = outcome.plan;
+  for (std::size_t i = 0; i < plan.runs.size(); ++i) {
+    const RunSpec& spec = plan.runs[i];
+    if (spec.sequence == s && plan.variants[spec.variant] == Variant::Plain(mode) &&
+        outcome.results[i].status == RunStatus::kOk) {
+      return i;
+    }
+  }
+  return std::nullopt;
+}
+
 std::string CpuModel() {
   std::ifstream in("/proc/cpuinfo");
   for (std::string line; std::getline(in, line);) {
@@ -260,8 +283,91 @@ void WriteBenchOutputs(const BenchOutcome& outcome) {
     WriteText(plan.folder / "tables" / (named.name + ".csv"), t.ToCsv());
   }
   WriteText(plan.folder / "tables.md", markdown);
+  try {
+    WriteText(plan.folder / "report.html", RenderBenchReport(outcome));
+  } catch (const core::InputError& e) {
+    spdlog::warn("no report.html: {}", e.what());  // the tables are complete; only the page is missing
+  }
   WriteText(plan.folder / "results.json",
             nlohmann::json{{"plan", PlanToJson(plan)}, {"runs", runs}, {"tables", tables}}.dump(2) + "\n");
+}
+
+std::string RenderBenchReport(const BenchOutcome& outcome) {
+  const Plan& plan = outcome.plan;
+  const std::size_t finished = static_cast<std::size_t>(std::count_if(
+      outcome.results.begin(), outcome.results.end(), [](const RunResult& r) { return r.status == RunStatus::kOk; }));
+  const std::size_t failed = static_cast<std::size_t>(std::count_if(
+      outcome.results.begin(), outcome.results.end(), [](const RunResult& r) { return r.status == RunStatus::kFailed; }));
+  const std::vector<std::string> intro = {
+      fmt::format("{} runs of {} sequences: {} finished, {} failed, {} not run or interrupted", plan.runs.size(),
+                  plan.sequences.size(), finished, failed, plan.runs.size() - finished - failed),
+      fmt::format("Median of {} runs per cell{}", plan.options.runs,
+                  plan.options.deterministic ? ", deterministic mode" : ""),
+      fmt::format("Machine: {}, {} threads", CpuModel(), std::thread::hardware_concurrency()),
+      fmt::format("Folder: {} (tables.md, tables/*.csv, results.json; each run's own report in runs/<id>/report.html)",
+                  plan.folder.string())};
+
+  // ATE per sequence and plain mode, NaN where no number.
+  std::vector<std::string> sequences;
+  std::vector<std::string> modes = plan.options.modes;
+  std::vector<std::vector<double>> ate;
+  const report::Table* ate_table = FindTable(outcome, "ate");
+  for (std::size_t s = 0; s < plan.sequences.size(); ++s) {
+    sequences.push_back(plan.sequences[s].name);
+    std::vector<double>& row = ate.emplace_back();
+    for (std::size_t m = 0; m < modes.size(); ++m) {
+      const std::string& cell = ate_table->rows[s][m + 1];
+      // The chart shows the median the table shows; cells that are not a plain number have none.
+      row.push_back(cell.find_first_not_of("0123456789.") == std::string::npos && !cell.empty()
+                        ? std::stod(cell)
+                        : std::nan(""));
+    }
+  }
+  std::vector<report::BenchReportSection> sections;
+  sections.push_back({.heading = "Accuracy",
+                      .text = "ATE RMSE per filter mode and sequence (the median of the runs). A × marks a mode "
+                              "without a number: failed, missing or not applicable.",
+                      .tables = {*ate_table},
+                      .svg_figures = {report::AteBarChartSvg(sequences, modes, ate)}});
+
+  report::BenchReportSection trajectories{
+      .heading = "Trajectories",
+      .text = "Seen from above: the ground truth and the first finished run of each of none, hoid2d and oracle, "
+              "aligned as the ATE aligns them.",
+      .tables = {},
+      .svg_figures = {}};
+  for (std::size_t s = 0; s < plan.sequences.size(); ++s) {
+    const fs::path groundtruth = plan.sequences[s].path / "groundtruth.txt";
+    if (!fs::exists(groundtruth)) continue;
+    std::vector<report::RunReport> runs;
+    std::vector<std::string> labels;
+    for (const std::string mode : {"none", "hoid2d", "oracle"}) {
+      if (const std::optional<std::size_t> i = FirstFinishedRun(outcome, s, mode)) {
+        runs.push_back(report::LoadRunReport(plan.RunFolder(plan.runs[*i]), groundtruth));
+        labels.push_back(fmt::format("{} {}", plan.sequences[s].name, mode));
+      }
+    }
+    if (!runs.empty()) trajectories.svg_figures.push_back(report::TrajectoryOverlaySvg(runs, labels));
+  }
+  if (!trajectories.svg_figures.empty()) sections.push_back(std::move(trajectories));
+
+  const auto section = [&](std::string heading, std::string text, const std::vector<std::string>& names) {
+    report::BenchReportSection result{.heading = std::move(heading), .text = std::move(text), .tables = {},
+                                      .svg_figures = {}};
+    for (const std::string& name : names) {
+      if (const report::Table* table = FindTable(outcome, name)) result.tables.push_back(*table);
+    }
+    if (!result.tables.empty()) sections.push_back(std::move(result));
+  };
+  section("The paper's tables", "ATE statistics (Tables 3 and 5), 2D against 3D (Table 6) and the sweeps (Table 2).",
+          {"ate_statistics", "hoid_2d_3d", "area_sweep", "depth_sweep"});
+  section("Drift and lost frames", "", {"rpe_translation", "rpe_rotation", "lost"});
+  section("Exclusion quality",
+          "Against the ground-truth moving masks: leaked is the share of keypoints on moving things kept for "
+          "tracking, wasted the share of static keypoints dropped.",
+          {"leaked", "wasted"});
+  section("Time per stage", "", {"timing"});
+  return report::RenderBenchHtml("hoidslam bench", intro, sections);
 }
 
 }  // namespace hoidslam::bench

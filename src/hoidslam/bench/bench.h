@@ -52,7 +52,11 @@ Plan WriteBenchPlan(const BenchRequest& request);
 // ran elsewhere). Throws InputError naming plan.json when it is missing or broken.
 BenchOutcome CollectBench(const std::filesystem::path& folder);
 
-// results.json, tables.md and tables/<name>.csv in the plan's folder, each complete or absent.
+// results.json, tables.md, tables/<name>.csv and report.html in the plan's folder, each complete or absent.
 void WriteBenchOutputs(const BenchOutcome& outcome);
+
+// The bench as one self-contained HTML page: ATE per mode and sequence as a chart and every table, and for each
+// sequence the trajectories of `none`, `hoid2d` and `oracle` (their first finished runs) over the ground truth.
+std::string RenderBenchReport(const BenchOutcome& outcome);
 
 }  // namespace hoidslam::bench

@@ -1,0 +1,168 @@
+#pragma once
+// Reports as single HTML files that open anywhere, offline, and print: inline CSS, inline SVG charts
+// (svg_plot.h), pictures as base64 data: URIs. Nothing is fetched from a network.
+//
+// The run report shows one folder written by `hoidslam run` (docs/slam.md, "Outputs"): its counts, the
+// trajectory seen from above against ground truth, the ATE over time, the features per frame, the time per stage,
+// how well the exclusion matched the moving pixels (when the run recorded it) and the annotated snapshots (when
+// the run saved any). The bench report is a page of sections that `hoidslam bench` fills with tables and charts.
+
+#include <array>
+#include <cstddef>
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "hoidslam/core/pose.h"
+#include "hoidslam/eval/evaluation.h"
+#include "hoidslam/report/svg_plot.h"
+#include "hoidslam/report/table.h"
+
+namespace hoidslam::report {
+
+// ---- What a run folder holds ---------------------------------------------------------------------------------
+
+// A detection whose features were dropped, as frames.jsonl lists it.
+struct DynamicDetection {
+  std::string label;
+  double score = 0.0;
+  std::array<double, 4> box{};  // x, y, width, height (pixels)
+  std::string reason;           // the filter's reason (docs/hoid.md): person, interaction, depth_confirmed, ...
+  int person = -1;              // the person it interacts with (index into the frame's detections); -1: none
+  std::optional<double> interaction;  // area(object ∩ person) / area(object) with that person
+};
+
+// Keypoints counted against the ground-truth moving-pixel mask.
+struct ExclusionCounts {
+  std::size_t moving_kept = 0;
+  std::size_t moving_dropped = 0;
+  std::size_t static_kept = 0;
+  std::size_t static_dropped = 0;
+};
+
+// One line of frames.jsonl.
+struct FrameRecord {
+  std::size_t frame = 0;
+  double timestamp = 0.0;
+  std::string state;   // ok, lost, not_initialized
+  std::string method;  // how the pose was first estimated: motion_model, reference_keyframe, ...
+  bool keyframe = false;
+  std::size_t extracted = 0;
+  std::size_t dropped = 0;  // by the filter
+  std::size_t matched = 0;
+  std::size_t inliers = 0;
+  std::vector<DynamicDetection> dynamic;
+  std::optional<ExclusionCounts> exclusion;  // when the run compared against the moving masks
+  std::string detector_error;                // empty unless the detector failed on this frame
+};
+
+// summary.json's exclusion_quality: the run's keypoints against the ground-truth moving masks.
+struct ExclusionQuality {
+  double leaked = 0.0;  // fraction of the keypoints on moving pixels that were kept
+  double wasted = 0.0;  // fraction of the keypoints on static pixels that were dropped
+  ExclusionCounts counts;
+};
+
+struct StageTime {
+  std::string stage;  // load, extract, detect, filter, track
+  double median_ms = 0.0;
+};
+
+// An annotated frame the run saved as snapshots/<6-digit frame index>.jpg.
+struct Snapshot {
+  std::size_t frame = 0;
+  std::filesystem::path path;
+  std::string jpeg;  // the file's bytes
+};
+
+// The estimate against ground truth, associated and aligned exactly as `hoidslam eval` does.
+struct GroundTruthComparison {
+  eval::Evaluation evaluation;                    // ATE (per pair too) and RPE
+  std::vector<Eigen::Vector3d> groundtruth;       // ground-truth positions over the run's time span
+  std::vector<Eigen::Vector3d> aligned_estimate;  // every estimated position, in the ground truth's frame
+};
+
+struct RunReport {
+  std::filesystem::path folder;
+  // From summary.json.
+  std::string sequence;
+  std::string filter;
+  std::string detector;
+  std::size_t frames = 0;
+  std::size_t tracked = 0;
+  std::size_t lost = 0;
+  std::size_t before_initialization = 0;
+  std::size_t keyframes = 0;
+  std::size_t map_points = 0;
+  std::size_t keypoints_extracted = 0;
+  std::size_t keypoints_dropped = 0;
+  bool interrupted = false;
+  std::vector<StageTime> median_ms;           // the stages present, in pipeline order
+  std::optional<double> median_tracking_ms;   // extraction + filter + tracking, the budgeted figure
+  std::optional<ExclusionQuality> exclusion_quality;
+
+  std::vector<FrameRecord> frame_log;  // frames.jsonl, in file order
+  core::Trajectory estimate;           // trajectory.txt
+  std::vector<Snapshot> snapshots;     // by frame; empty without snapshots/
+  std::optional<GroundTruthComparison> comparison;  // when ground truth was given and fits the estimate
+  std::string not_compared;  // why there is no comparison although ground truth was given (too few matches)
+};
+
+// Reads a folder written by `hoidslam run` and, when `groundtruth` is not empty, compares its trajectory with that
+// TUM file (default eval::EvaluationOptions, as `hoidslam run` evaluates). Throws InputError naming the file for
+// a missing folder, summary.json, frames.jsonl or trajectory.txt, a malformed line, a snapshot that is not a
+// JPEG, or an unreadable ground-truth file; ground truth that does not overlap the estimate is not an error but
+// a note in the report (not_compared).
+RunReport LoadRunReport(const std::filesystem::path& run_folder, const std::filesystem::path& groundtruth);
+
+// The ground-truth file summary.json says the run was evaluated against (`evaluation.groundtruth.path`, as the
+// run wrote it, possibly relative to where it ran); empty when the run was not evaluated. Throws InputError when
+// summary.json is missing or malformed.
+std::filesystem::path RecordedGroundTruth(const std::filesystem::path& run_folder);
+
+// The whole page.
+std::string RenderRunHtml(const RunReport& report);
+
+// LoadRunReport, RenderRunHtml, and the page written to `out_html` complete or not at all.
+void WriteRunReport(const std::filesystem::path& run_folder, const std::filesystem::path& groundtruth,
+                    const std::filesystem::path& out_html);
+
+// ---- Building blocks of the bench report ---------------------------------------------------------------------
+
+struct BenchReportSection {
+  std::string heading;
+  std::string text;  // plain text; blank lines separate paragraphs
+  std::vector<Table> tables;
+  std::vector<std::string> svg_figures;  // SVG elements, e.g. from the functions below or svg_plot.h
+};
+
+// A page with `title`, the intro lines as a list, then each section: heading, text, tables, figures.
+std::string RenderBenchHtml(const std::string& title, const std::vector<std::string>& intro_lines,
+                            const std::vector<BenchReportSection>& sections);
+
+// The aligned trajectories of several runs of one sequence over its ground truth, seen from above. Each run is
+// named in the legend by `labels[i]`, or by its filter mode when `labels` is empty; a run without a comparison
+// (not evaluated, or nothing tracked) appears in the legend only. Throws std::invalid_argument when the runs were
+// compared against different ground-truth files or `labels` has the wrong length.
+std::string TrajectoryOverlaySvg(std::span<const RunReport> runs, std::span<const std::string> labels = {});
+
+// ATE RMSE per sequence (groups) and mode (bars): ate_m[s][m] in metres, NaN for a missing or failed run (drawn as
+// a ×). The value axis is logarithmic when the values span more than a factor of 20, as they do when an
+// unfiltered run fails by decimetres beside filtered ones at millimetres.
+std::string AteBarChartSvg(const std::vector<std::string>& sequences, const std::vector<std::string>& modes,
+                           const std::vector<std::vector<double>>& ate_m);
+
+// ---- Pieces -------------------------------------------------------------------------------------------------
+
+// RFC 4648 base64 with padding.
+std::string Base64Encode(std::string_view bytes);
+
+// A report::Table as an HTML table (title as caption, note under it); cells that are numbers align right.
+std::string TableHtml(const Table& table);
+
+}  // namespace hoidslam::report
