@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "hoidslam/bench/test_sequences.h"
 #include "hoidslam/core/error.h"
 
 namespace hoidslam::bench {
@@ -13,27 +14,6 @@ namespace {
 
 using ::testing::ElementsAre;
 using ::testing::HasSubstr;
-
-BenchSequence Synthetic(const std::string& name) {
-  BenchSequence sequence;
-  sequence.name = name;
-  sequence.path = "/b/sequences/" + name;
-  sequence.scenario = name;
-  sequence.has_masks = true;
-  sequence.min_interaction_area = 0.4;
-  sequence.depth_threshold = 0.2;
-  return sequence;
-}
-
-BenchSequence Tum(const std::string& name) {
-  BenchSequence sequence;
-  sequence.name = name;
-  sequence.path = "/data/" + name;
-  sequence.settings = "/cfg/TUM3.yaml";
-  sequence.min_interaction_area = 0.4;
-  sequence.depth_threshold = 0.2;
-  return sequence;
-}
 
 std::vector<std::string> VariantNames(const Plan& plan) {
   std::vector<std::string> names;
@@ -50,7 +30,7 @@ std::size_t RunsOf(const Plan& plan, const std::string& sequence, const std::str
 TEST(MakePlan, ModesThenSweepValuesNotAlreadyMeasuredByThePlainRuns) {
   BenchOptions options;
   options.runs = 2;
-  const Plan plan = MakePlan(options, {Synthetic("walking_xyz")}, "/bin/hoidslam", "/b");
+  const Plan plan = MakePlan(options, {SyntheticSequence("walking_xyz")}, "/bin/hoidslam", "/b");
   EXPECT_THAT(VariantNames(plan),
               ElementsAre("none", "person", "classes", "hoid2d", "hoid3d", "oracle", "hoid2d area=0.2",
                           "hoid2d area=0.3", "hoid2d area=0.5", "hoid3d depth=0.1", "hoid3d depth=0.3",
@@ -71,7 +51,7 @@ TEST(MakePlan, SweepsCanHaveFewerRuns) {
   options.modes = {"hoid2d"};
   options.area_sweep = {0.3};
   options.depth_sweep = {};
-  const Plan plan = MakePlan(options, {Synthetic("carry")}, "/bin/hoidslam", "/b");
+  const Plan plan = MakePlan(options, {SyntheticSequence("carry")}, "/bin/hoidslam", "/b");
   EXPECT_EQ(RunsOf(plan, "carry", "hoid2d"), 5U);
   EXPECT_EQ(RunsOf(plan, "carry", "hoid2d area=0.3"), 2U);
 }
@@ -81,9 +61,9 @@ TEST(MakePlan, OracleOnlyWhereMasksExistAndNothingForABrokenSequence) {
   options.runs = 1;
   options.area_sweep = {};
   options.depth_sweep = {};
-  BenchSequence broken = Tum("broken");
+  BenchSequence broken = TumSequence("broken");
   broken.problem = "rgb.txt: not found";
-  const Plan plan = MakePlan(options, {Tum("fr3_walking_xyz"), Synthetic("carry"), broken}, "/bin/hoidslam", "/b");
+  const Plan plan = MakePlan(options, {TumSequence("fr3_walking_xyz"), SyntheticSequence("carry"), broken}, "/bin/hoidslam", "/b");
   EXPECT_EQ(RunsOf(plan, "fr3_walking_xyz", "oracle"), 0U);
   EXPECT_EQ(RunsOf(plan, "fr3_walking_xyz", "hoid2d"), 1U);
   EXPECT_EQ(RunsOf(plan, "carry", "oracle"), 1U);
@@ -97,7 +77,7 @@ TEST(MakePlan, ASettingThatDiffersFromTheSweepValueGetsItsOwnRuns) {
   options.modes = {"hoid2d"};
   options.area_sweep = {0.3, 0.4};
   options.depth_sweep = {};
-  BenchSequence own = Tum("own");
+  BenchSequence own = TumSequence("own");
   own.min_interaction_area = 0.3;  // its settings file says 0.3: the plain run measures 0.3, so 0.4 needs runs
   const Plan plan = MakePlan(options, {own}, "/bin/hoidslam", "/b");
   EXPECT_THAT(VariantNames(plan), ElementsAre("hoid2d", "hoid2d area=0.4"));
@@ -135,7 +115,7 @@ TEST(Plan, RunCommandCarriesEverythingTheRunNeeds) {
   options.depth_sweep = {0.3};
   options.frames = 100;
   options.deterministic = true;
-  const Plan plan = MakePlan(options, {Tum("fr3")}, "/bin/hoidslam", "/b");
+  const Plan plan = MakePlan(options, {TumSequence("fr3")}, "/bin/hoidslam", "/b");
   ASSERT_EQ(plan.runs.size(), 4U);
   EXPECT_THAT(plan.RunCommand(plan.runs[0]),
               ElementsAre("/bin/hoidslam", "run", "/data/fr3", "--filter", "hoid3d", "--out", "/b/runs/fr3.hoid3d.r1",
@@ -152,7 +132,7 @@ TEST(Plan, PrepareCommandRendersTheScenario) {
   BenchOptions options;
   options.synth_frames = 300;
   options.synth_frame_step = 2;
-  const Plan plan = MakePlan(options, {Synthetic("carry")}, "/bin/hoidslam", "/b");
+  const Plan plan = MakePlan(options, {SyntheticSequence("carry")}, "/bin/hoidslam", "/b");
   EXPECT_THAT(plan.PrepareCommand(plan.sequences[0]),
               ElementsAre("/bin/hoidslam", "synth", "--scenario", "carry", "--out", "/b/sequences/carry", "--frames",
                           "300", "--frame-step", "2"));
@@ -162,9 +142,9 @@ TEST(Plan, JsonRoundTripKeepsEveryRunAndCommand) {
   BenchOptions options;
   options.runs = 3;
   options.model = "";
-  BenchSequence broken = Tum("broken");
+  BenchSequence broken = TumSequence("broken");
   broken.problem = "gone";
-  const Plan plan = MakePlan(options, {Synthetic("walking_xyz"), Tum("fr3"), broken}, "/bin/hoidslam", "/b");
+  const Plan plan = MakePlan(options, {SyntheticSequence("walking_xyz"), TumSequence("fr3"), broken}, "/bin/hoidslam", "/b");
   const Plan back = PlanFromJson(nlohmann::json::parse(PlanToJson(plan).dump()), "plan.json");
   ASSERT_EQ(back.runs.size(), plan.runs.size());
   for (std::size_t i = 0; i < plan.runs.size(); ++i) {

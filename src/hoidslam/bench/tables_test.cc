@@ -3,21 +3,12 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "hoidslam/bench/test_sequences.h"
+
 namespace hoidslam::bench {
 namespace {
 
 using ::testing::ElementsAre;
-
-BenchSequence Synthetic(const std::string& name) {
-  BenchSequence sequence;
-  sequence.name = name;
-  sequence.path = "/b/sequences/" + name;
-  sequence.scenario = name;
-  sequence.has_masks = true;
-  sequence.min_interaction_area = 0.4;
-  sequence.depth_threshold = 0.2;
-  return sequence;
-}
 
 RunResult Ok(double ate, std::size_t lost = 0) {
   RunResult r;
@@ -58,9 +49,9 @@ class BenchTables : public ::testing::Test {
     options.modes = {"none", "hoid2d", "hoid3d", "oracle"};
     options.area_sweep = {0.3, 0.4};
     options.depth_sweep = {};
-    BenchSequence missing = Synthetic("gone");
+    BenchSequence missing = SyntheticSequence("gone");
     missing.problem = "rendering failed";
-    plan_ = MakePlan(options, {Synthetic("walking_xyz"), Synthetic("carry"), missing}, "/bin/hoidslam", "/b");
+    plan_ = MakePlan(options, {SyntheticSequence("walking_xyz"), SyntheticSequence("carry"), missing}, "/bin/hoidslam", "/b");
     // walking_xyz: everything fine; carry: hoid2d loses one run, hoid3d fails every run.
     for (const RunSpec& spec : plan_.runs) {
       const std::string& sequence = plan_.sequences[spec.sequence].name;

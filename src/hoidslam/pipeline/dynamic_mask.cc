@@ -16,6 +16,7 @@
 #include "hoidslam/core/progress.h"
 #include "hoidslam/io/atomic_file.h"
 #include "hoidslam/io/files.h"
+#include "hoidslam/pipeline/run.h"
 
 namespace hoidslam::pipeline {
 namespace {
@@ -34,20 +35,6 @@ std::pair<int, int> CentresInside(float lo, float hi, int n) {
   if (std::isnan(lo) || std::isnan(hi)) return {0, 0};
   const auto clip = [n](double v) { return static_cast<int>(std::clamp(v, 0.0, static_cast<double>(n))); };
   return {clip(std::ceil(static_cast<double>(lo) - 0.5)), clip(std::ceil(static_cast<double>(hi) - 0.5))};
-}
-
-// The ground-truth moving pixels of a synthetic frame (mask/<colour file name>), 255 where moving: run drops
-// keypoints on any non-zero value.
-cv::Mat ReadMovingMask(const fs::path& folder, const core::RgbdFrame& frame) {
-  const fs::path path = folder / fs::path(frame.rgb_path).filename();
-  const cv::Mat truth = io::ReadImage(path, cv::IMREAD_GRAYSCALE, "moving mask");
-  if (truth.size() != frame.rgb.size()) {
-    throw core::InputError::InFile(path, fmt::format("is {}×{}, its colour image {}×{}", truth.cols, truth.rows,
-                                                     frame.rgb.cols, frame.rgb.rows));
-  }
-  cv::Mat marked;
-  cv::compare(truth, 0, marked, cv::CMP_NE);
-  return marked;
 }
 
 // DynaSLAM reads <mask folder>/<the colour image's file name>, so a mask named <stem>.png is found only when
@@ -145,16 +132,10 @@ MaskExportSummary ExportMasks(const io::RgbdSequence& sequence, detect::Detector
     const core::RgbdFrame frame = sequence.LoadFrame(index);
     cv::Mat marked;
     if (options.exclusion.oracle) {
-      marked = ReadMovingMask(sequence.root() / "mask", frame);
+      cv::compare(exclusion.MovingMask(frame), 0, marked, cv::CMP_NE);  // run drops on any non-zero value
     } else {
-      if (options.exclusion.NeedsDetections()) {
-        try {
-          detections = detector.Detect(frame.timestamp, frame.rgb);
-        } catch (const std::exception& e) {
-          ++summary.detector_failures;
-          spdlog::warn("frame {} ({:.6f}): detector failed, using the previous frame's detections: {}", index,
-                       frame.timestamp, e.what());
-        }
+      if (options.exclusion.NeedsDetections() && DetectOrKeepPrevious(detector, frame, index, detections)) {
+        ++summary.detector_failures;
       }
       // Run's exclusion on no keypoints: only its verdicts on the detections are wanted here.
       exclusion.Mark(frame, detections, {}, no_keypoints, decisions);

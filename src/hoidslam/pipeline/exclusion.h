@@ -71,11 +71,12 @@ class KeypointExclusion {
   // `keep` (from Mark) against the frame's moving mask. Requires CanScore(); throws like Mark for a bad mask.
   ExclusionCounts Score(const core::RgbdFrame& frame, std::span<const cv::KeyPoint> keypoints,
                         std::span<const std::uint8_t> keep) const;
-
- private:
-  // The frame's moving mask; the last one read is kept, since Mark (oracle) and Score read the same file.
+  // The frame's ground-truth moving mask (mask/<colour file name>, non-zero = moving). Requires CanScore(); throws
+  // InputError naming the file when it is missing or not the frame's size. The last one read is kept, since Mark
+  // (oracle) and Score read the same file.
   const cv::Mat& MovingMask(const core::RgbdFrame& frame) const;
 
+ private:
   ExclusionOptions options_;
   std::filesystem::path mask_folder_;  // empty when the sequence has no masks
   mutable std::filesystem::path cached_mask_path_;  // one KeypointExclusion per run: not shared across threads

@@ -80,6 +80,18 @@ RunOptions RunOptions::FromSettings(const io::Settings& settings) {
   return options;
 }
 
+std::optional<std::string> DetectOrKeepPrevious(detect::Detector& detector, const core::RgbdFrame& frame,
+                                                std::size_t index, std::vector<core::Detection>& detections) {
+  try {
+    detections = detector.Detect(frame.timestamp, frame.rgb);
+    return std::nullopt;
+  } catch (const std::exception& e) {
+    spdlog::warn("frame {} ({:.6f}): detector failed, using the previous frame's detections: {}", index,
+                 frame.timestamp, e.what());
+    return e.what();
+  }
+}
+
 RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detector, const RunOptions& options,
                        const std::filesystem::path& folder, const std::function<bool()>& stop_requested) {
   const KeypointExclusion exclusion(options.exclusion, sequence.root());
@@ -114,14 +126,10 @@ RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detec
     nlohmann::json entry = {{"frame", index}, {"timestamp", frame.timestamp}};
     if (options.exclusion.NeedsDetections() || options.exclusion.oracle) {
       clock.Restart();
-      try {
-        detections = detector.Detect(frame.timestamp, frame.rgb);
-      } catch (const std::exception& e) {
-        // One bad frame must not end a run: the people seen a frame ago are the best guess for this one.
+      // One bad frame must not end a run.
+      if (const std::optional<std::string> error = DetectOrKeepPrevious(detector, frame, index, detections)) {
         ++summary.detector_failures;
-        entry["detector_error"] = e.what();
-        spdlog::warn("frame {} ({:.6f}): detector failed, using the previous frame's detections: {}", index,
-                     frame.timestamp, e.what());
+        entry["detector_error"] = *error;
       }
       times.detect = clock.ElapsedMilliseconds();
     }

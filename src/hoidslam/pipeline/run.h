@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <functional>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "hoidslam/detect/detector.h"
@@ -59,6 +60,11 @@ struct RunSummary {
   std::optional<ExclusionCounts> exclusion;  // over all frames, when the sequence has ground-truth moving masks
   bool interrupted = false;          // stopped early by the caller; the outputs hold the frames done
 };
+
+// Asks `detector` for the frame's boxes. When it fails, `detections` keeps the previous frame's boxes (the people
+// seen a frame ago are the best guess for this one), the failure is logged, and its message is returned.
+std::optional<std::string> DetectOrKeepPrevious(detect::Detector& detector, const core::RgbdFrame& frame,
+                                                std::size_t index, std::vector<core::Detection>& detections);
 
 // Runs `sequence` and writes the outputs into `folder` (which must exist). `stop_requested` is polled between
 // frames. Throws InputError for unreadable input (naming the file); a detector that fails on one frame is logged
