@@ -301,7 +301,7 @@ std::string RenderBenchReport(const BenchOutcome& outcome) {
   const std::vector<std::string> intro = {
       fmt::format("{} runs of {} sequences: {} finished, {} failed, {} not run or interrupted", plan.runs.size(),
                   plan.sequences.size(), finished, failed, plan.runs.size() - finished - failed),
-      fmt::format("Median of {} runs per cell{}", plan.options.runs,
+      fmt::format("Median of {} run{} per cell{}", plan.options.runs, plan.options.runs == 1 ? "" : "s",
                   plan.options.deterministic ? ", deterministic mode" : ""),
       fmt::format("Machine: {}, {} threads", CpuModel(), std::thread::hardware_concurrency()),
       fmt::format("Folder: {} (tables.md, tables/*.csv, results.json; each run's own report in runs/<id>/report.html)",
