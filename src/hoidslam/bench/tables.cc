@@ -54,7 +54,12 @@ class Grid {
     if (group.planned == 0) return "–";  // not applicable (oracle without masks)
     if (group.ok.empty()) return group.failed > 0 ? "failed" : "not run";
     const std::optional<double> median = MedianOf(sequence, *variant, value);
-    if (!median) return "n/a";
+    if (!median) {
+      const bool none_tracked = std::all_of(group.ok.begin(), group.ok.end(), [](const RunResult* r) {
+        return r->tracked == 0;
+      });
+      return none_tracked ? "no pose" : "n/a";
+    }
     return format(*median) + Shortfall(sequence, *variant);
   }
 
@@ -91,7 +96,8 @@ std::vector<std::size_t> PlainVariants(const Plan& plan) {
 std::string RunsNote(const Plan& plan, std::size_t runs) {
   std::string note = fmt::format("Median of {} run{} per cell", runs, runs == 1 ? "" : "s");
   if (plan.options.deterministic) note += " (deterministic mode)";
-  note += "; (k/n): only k of n runs finished; failed: no run finished; –: not applicable.";
+  note += "; (k/n): only k of n runs finished; failed: no run finished; no pose: the runs finished without "
+          "tracking a frame (the map never started); –: not applicable.";
   for (const BenchSequence& s : plan.sequences) {
     if (!s.problem.empty()) note += fmt::format(" {} is missing: {}.", s.name, s.problem);
   }

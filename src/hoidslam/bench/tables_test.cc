@@ -98,6 +98,22 @@ TEST_F(BenchTables, StatisticsSweepsAndTwoAgainstThree) {
   for (const NamedTable& t : tables_) EXPECT_NE(t.name, "depth_sweep");  // none asked
 }
 
+TEST(BuildTables, RunsThatNeverTrackedSaySoInsteadOfANumber) {
+  BenchOptions options;
+  options.runs = 2;
+  options.modes = {"classes"};
+  options.area_sweep = {};
+  options.depth_sweep = {};
+  const Plan plan = MakePlan(options, {SyntheticSequence("carry")}, "/bin/hoidslam", "/b");
+  RunResult never;  // finished, but the map never started: no trajectory, no ATE
+  never.status = RunStatus::kOk;
+  never.frames = 100;
+  never.before_initialization = 100;
+  const std::vector<NamedTable> tables = BuildTables(plan, {never, never});
+  EXPECT_EQ(Find(tables, "ate").rows[0][1], "no pose");
+  EXPECT_EQ(Find(tables, "lost").rows[0][1], "100");
+}
+
 TEST_F(BenchTables, LostExclusionQualityAndTiming) {
   EXPECT_EQ(Find(tables_, "lost").rows[0][1], "0");  // median of 0, 0, 2
   EXPECT_EQ(Find(tables_, "leaked").rows[0][2], "10.0 %");
