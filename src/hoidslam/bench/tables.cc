@@ -141,8 +141,12 @@ report::Table PerMode(const Plan& plan, const Grid& grid, std::string title, con
 
 report::Table Sweep(const Plan& plan, const Grid& grid, const std::string& mode, const std::vector<double>& values,
                     bool is_area, std::string title) {
-  report::Table table{.title = std::move(title), .note = RunsNote(plan, plan.options.SweepRuns()), .header = {"sequence"},
-                      .rows = {}};
+  std::string note = RunsNote(plan, plan.options.SweepRuns());
+  if (plan.options.SweepRuns() != plan.options.runs) {
+    note += fmt::format(" The value a sequence's settings give is measured by the plain {} runs ({} per cell).", mode,
+                        plan.options.runs);
+  }
+  report::Table table{.title = std::move(title), .note = std::move(note), .header = {"sequence"}, .rows = {}};
   for (const double value : values) table.header.push_back(fmt::format("{}", value));
   const Value ate = [](const RunResult& r) { return r.ate_rmse; };
   for (std::size_t s = 0; s < plan.sequences.size(); ++s) {
