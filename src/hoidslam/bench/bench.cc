@@ -150,17 +150,23 @@ const report::Table* FindTable(const BenchOutcome& outcome, const std::string& n
   return nullptr;
 }
 
-// The first finished run of `mode` (its plain variant) on sequence `s`.
-std::optional<std::size_t> FirstFinishedRun(const BenchOutcome& outcome, std::size_t s, const std::string& mode) {
+// The run of `mode` (its plain variant) on sequence `s` whose ATE is the median of the finished runs (the lower
+// one of an even count), so that the picture shows the run the table's figure stands for.
+std::optional<std::size_t> MedianRun(const BenchOutcome& outcome, std::size_t s, const std::string& mode) {
   const Plan& plan = outcome.plan;
+  std::vector<std::size_t> runs;
   for (std::size_t i = 0; i < plan.runs.size(); ++i) {
     const RunSpec& spec = plan.runs[i];
     if (spec.sequence == s && plan.variants[spec.variant] == Variant::Plain(mode) &&
-        outcome.results[i].status == RunStatus::kOk) {
-      return i;
+        outcome.results[i].status == RunStatus::kOk && outcome.results[i].ate_rmse) {
+      runs.push_back(i);
     }
   }
-  return std::nullopt;
+  if (runs.empty()) return std::nullopt;
+  std::sort(runs.begin(), runs.end(), [&](std::size_t a, std::size_t b) {
+    return *outcome.results[a].ate_rmse < *outcome.results[b].ate_rmse;
+  });
+  return runs[(runs.size() - 1) / 2];
 }
 
 std::string CpuModel() {
@@ -299,8 +305,9 @@ std::string RenderBenchReport(const BenchOutcome& outcome) {
   const std::size_t failed = static_cast<std::size_t>(std::count_if(
       outcome.results.begin(), outcome.results.end(), [](const RunResult& r) { return r.status == RunStatus::kFailed; }));
   const std::vector<std::string> intro = {
-      fmt::format("{} runs of {} sequences: {} finished, {} failed, {} not run or interrupted", plan.runs.size(),
-                  plan.sequences.size(), finished, failed, plan.runs.size() - finished - failed),
+      fmt::format("{} run{} of {} sequence{}: {} finished, {} failed, {} not run or interrupted", plan.runs.size(),
+                  plan.runs.size() == 1 ? "" : "s", plan.sequences.size(), plan.sequences.size() == 1 ? "" : "s",
+                  finished, failed, plan.runs.size() - finished - failed),
       fmt::format("Median of {} run{} per cell{}", plan.options.runs, plan.options.runs == 1 ? "" : "s",
                   plan.options.deterministic ? ", deterministic mode" : ""),
       fmt::format("Machine: {}, {} threads", CpuModel(), std::thread::hardware_concurrency()),
@@ -332,8 +339,8 @@ std::string RenderBenchReport(const BenchOutcome& outcome) {
 
   report::BenchReportSection trajectories{
       .heading = "Trajectories",
-      .text = "Seen from above: the ground truth and the first finished run of each of none, hoid2d and oracle, "
-              "aligned as the ATE aligns them.",
+      .text = "Seen from above: the ground truth and, of none, hoid2d and oracle, the run whose ATE is the median "
+              "of its runs, aligned as the ATE aligns them.",
       .tables = {},
       .svg_figures = {}};
   for (std::size_t s = 0; s < plan.sequences.size(); ++s) {
@@ -342,9 +349,9 @@ std::string RenderBenchReport(const BenchOutcome& outcome) {
     std::vector<report::RunReport> runs;
     std::vector<std::string> labels;
     for (const std::string mode : {"none", "hoid2d", "oracle"}) {
-      if (const std::optional<std::size_t> i = FirstFinishedRun(outcome, s, mode)) {
+      if (const std::optional<std::size_t> i = MedianRun(outcome, s, mode)) {
         runs.push_back(report::LoadRunReport(plan.RunFolder(plan.runs[*i]), groundtruth));
-        labels.push_back(fmt::format("{} {}", plan.sequences[s].name, mode));
+        labels.push_back(fmt::format("{} {} (run {})", plan.sequences[s].name, mode, plan.runs[*i].run));
       }
     }
     if (!runs.empty()) trajectories.svg_figures.push_back(report::TrajectoryOverlaySvg(runs, labels));

@@ -56,7 +56,7 @@ BenchOutcome CollectBench(const std::filesystem::path& folder);
 void WriteBenchOutputs(const BenchOutcome& outcome);
 
 // The bench as one self-contained HTML page: ATE per mode and sequence as a chart and every table, and for each
-// sequence the trajectories of `none`, `hoid2d` and `oracle` (their first finished runs) over the ground truth.
+// sequence the trajectories of `none`, `hoid2d` and `oracle` (each mode's median run) over the ground truth.
 std::string RenderBenchReport(const BenchOutcome& outcome);
 
 }  // namespace hoidslam::bench
