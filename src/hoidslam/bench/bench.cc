@@ -335,14 +335,23 @@ std::string RenderBenchReport(const BenchOutcome& outcome) {
                       .text = "ATE RMSE per filter mode and sequence (the median of the runs). A × marks a mode "
                               "without a number: failed, missing or not applicable.",
                       .tables = {*ate_table},
-                      .svg_figures = {report::AteBarChartSvg(sequences, modes, ate)}});
+                      .svg_figures = {report::AteBarChartSvg(sequences, modes, ate)},
+                      .html = {}});
 
   report::BenchReportSection trajectories{
       .heading = "Trajectories",
-      .text = "Seen from above: the ground truth and, of none, hoid2d and oracle, the run whose ATE is the median "
-              "of its runs, aligned as the ATE aligns them.",
+      .text = "For each of none, hoid2d and oracle, the run whose ATE is the median of its runs: seen from above "
+              "over the ground truth, aligned as the ATE aligns them, and its error over time.",
       .tables = {},
-      .svg_figures = {}};
+      .svg_figures = {},
+      .html = {}};
+  report::BenchReportSection frames{
+      .heading = "Annotated frames",
+      .text = "From the first hoid2d run of each sequence: boxes coloured by the filter's decision with the "
+              "interaction ratio, keypoints kept green and dropped red.",
+      .tables = {},
+      .svg_figures = {},
+      .html = {}};
   for (std::size_t s = 0; s < plan.sequences.size(); ++s) {
     const fs::path groundtruth = plan.sequences[s].path / "groundtruth.txt";
     if (!fs::exists(groundtruth)) continue;
@@ -354,13 +363,26 @@ std::string RenderBenchReport(const BenchOutcome& outcome) {
         labels.push_back(fmt::format("{} {} (run {})", plan.sequences[s].name, mode, plan.runs[*i].run));
       }
     }
-    if (!runs.empty()) trajectories.svg_figures.push_back(report::TrajectoryOverlaySvg(runs, labels));
+    if (runs.empty()) continue;
+    trajectories.svg_figures.push_back(report::TrajectoryOverlaySvg(runs, labels));
+    trajectories.svg_figures.push_back(report::AteOverTimeSvg(runs, labels));
+    // Snapshots are kept from each mode's first run only (BenchOptions::snapshots).
+    for (std::size_t i = 0; i < plan.runs.size(); ++i) {
+      const RunSpec& spec = plan.runs[i];
+      if (spec.sequence != s || spec.run != 1 || !(plan.variants[spec.variant] == Variant::Plain("hoid2d")) ||
+          outcome.results[i].status != RunStatus::kOk) {
+        continue;
+      }
+      const std::string gallery = report::SnapshotGallery(report::LoadRunReport(plan.RunFolder(spec), {}), 3);
+      if (!gallery.empty()) frames.html += fmt::format("<h3>{}</h3>\n{}", report::EscapeXml(plan.sequences[s].name), gallery);
+    }
   }
   if (!trajectories.svg_figures.empty()) sections.push_back(std::move(trajectories));
+  if (!frames.html.empty()) sections.push_back(std::move(frames));
 
   const auto section = [&](std::string heading, std::string text, const std::vector<std::string>& names) {
     report::BenchReportSection result{.heading = std::move(heading), .text = std::move(text), .tables = {},
-                                      .svg_figures = {}};
+                                      .svg_figures = {}, .html = {}};
     for (const std::string& name : names) {
       if (const report::Table* table = FindTable(outcome, name)) result.tables.push_back(*table);
     }

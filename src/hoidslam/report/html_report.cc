@@ -373,6 +373,26 @@ Table ErrorTable(const eval::Evaluation& evaluation) {
   return table;
 }
 
+// The position error of every matched pose over time (seconds from the run's first frame). Frames without a pose
+// break the line, so a loss of tracking shows as a gap. Requires report.comparison.
+LineSeries AteErrorSeries(const RunReport& report, std::string name, std::string colour) {
+  const double t0 = StartTime(report);
+  std::vector<std::pair<double, double>> points;
+  for (const eval::AtePair& pair : report.comparison->evaluation.ate.pairs) {
+    points.emplace_back(pair.estimate_timestamp - t0, pair.error);
+  }
+  for (const FrameRecord& frame : report.frame_log) {
+    if (frame.state != "ok") points.emplace_back(frame.timestamp - t0, kNaN);
+  }
+  std::stable_sort(points.begin(), points.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  LineSeries errors{.name = std::move(name), .colour = std::move(colour)};
+  for (const auto& [t, e] : points) {
+    errors.x.push_back(t);
+    errors.y.push_back(e);
+  }
+  return errors;
+}
+
 std::string TrajectorySection(const RunReport& report) {
   ChartOptions trajectory_options{.title = "Trajectory seen from above", .width = 520, .height = 470};
   std::vector<Path3d> paths;
@@ -390,21 +410,7 @@ std::string TrajectorySection(const RunReport& report) {
                      ? "The estimate aligned onto the ground truth as for ATE; a dot marks the start."
                      : "Camera positions as estimated (frame of the first camera); a dot marks the start.");
   if (report.comparison) {
-    // Frames without a pose break the line, so a loss of tracking shows as a gap.
-    const double t0 = StartTime(report);
-    std::vector<std::pair<double, double>> points;
-    for (const eval::AtePair& pair : report.comparison->evaluation.ate.pairs) {
-      points.emplace_back(pair.estimate_timestamp - t0, pair.error);
-    }
-    for (const FrameRecord& frame : report.frame_log) {
-      if (frame.state != "ok") points.emplace_back(frame.timestamp - t0, kNaN);
-    }
-    std::stable_sort(points.begin(), points.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    LineSeries errors{.name = "", .colour = std::string(PaletteColour(1))};
-    for (const auto& [t, e] : points) {
-      errors.x.push_back(t);
-      errors.y.push_back(e);
-    }
+    const LineSeries errors = AteErrorSeries(report, "", std::string(PaletteColour(1)));
     const ChartOptions error_options{.title = "ATE over time", .x_label = "time (s)",
                                      .y_label = "position error (m)", .width = 520, .height = 470};
     html += Figure(LineChart(std::span(&errors, 1), error_options),
@@ -525,11 +531,20 @@ std::string SnapshotCaption(const Snapshot& snapshot, const FrameRecord* frame, 
 
 std::string SnapshotsSection(const RunReport& report) {
   if (report.snapshots.empty()) return "";
+  return "<section>\n<h2>Annotated frames</h2>\n<p class=\"sub\">Boxes coloured by the filter's decision with the "
+         "interaction ratio; keypoints kept green, dropped red.</p>\n" +
+         SnapshotGallery(report, report.snapshots.size()) + "</section>\n";
+}
+
+}  // namespace
+
+std::string SnapshotGallery(const RunReport& report, std::size_t count) {
+  if (report.snapshots.empty() || count == 0) return "";
   const double t0 = StartTime(report);
-  std::string html = "<section>\n<h2>Annotated frames</h2>\n<p class=\"sub\">Boxes coloured by the filter's "
-                     "decision with the interaction ratio; keypoints kept green, dropped red.</p>\n"
-                     "<div class=\"snapshots\">\n";
-  for (const Snapshot& snapshot : report.snapshots) {
+  std::string html = "<div class=\"snapshots\">\n";
+  // `count` of them, spread evenly over the ones the run saved.
+  for (std::size_t k = 0; k < std::min(count, report.snapshots.size()); ++k) {
+    const Snapshot& snapshot = report.snapshots[(2 * k + 1) * report.snapshots.size() / (2 * count)];
     const auto frame = std::find_if(report.frame_log.begin(), report.frame_log.end(),
                                     [&](const FrameRecord& f) { return f.frame == snapshot.frame; });
     html += fmt::format("<figure><img src=\"data:image/jpeg;base64,{}\" alt=\"frame {}\"><figcaption>{}</figcaption>"
@@ -537,10 +552,8 @@ std::string SnapshotsSection(const RunReport& report) {
                         Base64Encode(snapshot.jpeg), snapshot.frame,
                         SnapshotCaption(snapshot, frame == report.frame_log.end() ? nullptr : &*frame, t0));
   }
-  return html + "</div>\n</section>\n";
+  return html + "</div>\n";
 }
-
-}  // namespace
 
 RunReport LoadRunReport(const fs::path& run_folder, const fs::path& groundtruth) {
   RequireFolder(run_folder);
@@ -604,7 +617,12 @@ std::string RenderBenchHtml(const std::string& title, const std::vector<std::str
       start = end + 2;
     }
     for (const Table& table : section.tables) body += TableHtml(table);
-    for (const std::string& svg : section.svg_figures) body += Figure(svg);
+    if (!section.svg_figures.empty()) {
+      body += "<div class=\"row\">\n";
+      for (const std::string& svg : section.svg_figures) body += Figure(svg);
+      body += "</div>\n";
+    }
+    body += section.html;
     body += "</section>\n";
   }
   body += "<footer>Written by <code>hoidslam bench</code>.</footer>\n";
@@ -636,6 +654,20 @@ std::string TrajectoryOverlaySvg(std::span<const RunReport> runs, std::span<cons
   const std::string sequence = runs.empty() ? std::string() : runs.front().sequence;
   return PathPlot(paths, {.title = fmt::format("{}: trajectories seen from above", sequence), .width = 640,
                           .height = 520});
+}
+
+std::string AteOverTimeSvg(std::span<const RunReport> runs, std::span<const std::string> labels) {
+  if (!labels.empty() && labels.size() != runs.size()) {
+    throw std::invalid_argument(fmt::format("AteOverTimeSvg: {} labels for {} runs", labels.size(), runs.size()));
+  }
+  std::vector<LineSeries> series;
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    if (!runs[i].comparison) continue;
+    series.push_back(AteErrorSeries(runs[i], labels.empty() ? runs[i].filter : labels[i], std::string(PaletteColour(i))));
+  }
+  const std::string sequence = runs.empty() ? std::string() : runs.front().sequence;
+  return LineChart(series, {.title = fmt::format("{}: ATE over time", sequence), .x_label = "time (s)",
+                            .y_label = "position error (m)", .width = 640, .height = 520});
 }
 
 std::string AteBarChartSvg(const std::vector<std::string>& sequences, const std::vector<std::string>& modes,

@@ -139,6 +139,7 @@ struct BenchReportSection {
   std::string text;  // plain text; blank lines separate paragraphs
   std::vector<Table> tables;
   std::vector<std::string> svg_figures;  // SVG elements, e.g. from the functions below or svg_plot.h
+  std::string html;                      // markup after the figures, e.g. from SnapshotGallery
 };
 
 // A page with `title`, the intro lines as a list, then each section: heading, text, tables, figures.
@@ -150,6 +151,14 @@ std::string RenderBenchHtml(const std::string& title, const std::vector<std::str
 // (not evaluated, or nothing tracked) appears in the legend only. Throws std::invalid_argument when the runs were
 // compared against different ground-truth files or `labels` has the wrong length.
 std::string TrajectoryOverlaySvg(std::span<const RunReport> runs, std::span<const std::string> labels = {});
+
+// The position error over time of several runs of one sequence, one line each (named as in TrajectoryOverlaySvg);
+// runs without a comparison are left out.
+std::string AteOverTimeSvg(std::span<const RunReport> runs, std::span<const std::string> labels = {});
+
+// `count` of the run's annotated snapshots, spread evenly over those it saved, with their captions; empty when
+// it saved none.
+std::string SnapshotGallery(const RunReport& report, std::size_t count);
 
 // ATE RMSE per sequence (groups) and mode (bars): ate_m[s][m] in metres, NaN for a missing or failed run (drawn as
 // a ×). The value axis is logarithmic when the values span more than a factor of 20, as they do when an

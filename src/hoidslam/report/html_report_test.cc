@@ -286,10 +286,12 @@ TEST(RenderBenchHtml, HoldsTheIntroAndEverySection) {
   table.header = {"mode", "ATE"};
   table.rows = {{"hoid2d", "0.0035"}};
   const BenchReportSection section{"Accuracy", "First paragraph.\n\nSecond <one>.", {table},
-                                   {AteBarChartSvg({"walking_xyz"}, {"hoid2d", "none"}, {{0.0035, 0.18}})}};
+                                   {AteBarChartSvg({"walking_xyz"}, {"hoid2d", "none"}, {{0.0035, 0.18}})},
+                                   "<p id=\"extra\">after the figures</p>"};
   const std::string html = RenderBenchHtml("hoidslam bench", {"5 runs per mode", "2 cores"}, {section});
   EXPECT_EQ(report::testing::UnbalancedTags(html), "");
   EXPECT_THAT(html, HasSubstr("<h1>hoidslam bench</h1>"));
+  EXPECT_THAT(html, HasSubstr("<p id=\"extra\">after the figures</p>"));
   EXPECT_THAT(html, HasSubstr("<li>2 cores</li>"));
   EXPECT_THAT(html, HasSubstr("<h2>Accuracy</h2>"));
   EXPECT_THAT(html, HasSubstr("<p>First paragraph.</p>"));
