@@ -64,9 +64,7 @@ std::vector<double> ParseSweep(const std::string& text, const std::string& param
 fs::path SelfPath() { return fs::canonical("/proc/self/exe"); }
 
 void PrintOutcome(const bench::BenchOutcome& outcome) {
-  for (const bench::NamedTable& table : outcome.tables) {
-    if (table.name == "ate") fmt::print("{}\n", table.table.ToMarkdown());
-  }
+  fmt::print("{}\n", bench::FindTable(outcome.tables, "ate")->ToMarkdown());
   fmt::print("wrote {}/ (tables.md, tables/*.csv, results.json, runs/)\n", outcome.plan.folder.string());
 }
 

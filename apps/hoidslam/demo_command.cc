@@ -61,9 +61,7 @@ void RunDemo(const DemoArgs& args) {
   bench::WriteBenchOutputs(outcome);
   if (outcome.interrupted) interrupts.Reraise();
 
-  for (const bench::NamedTable& table : outcome.tables) {
-    if (table.name == "ate") fmt::print("\n{}\n", table.table.ToMarkdown());
-  }
+  fmt::print("\n{}\n", bench::FindTable(outcome.tables, "ate")->ToMarkdown());
   const std::optional<double> none = Ate(outcome, "none");
   const std::optional<double> hoid = Ate(outcome, "hoid2d");
   if (none && hoid && *hoid > 0) {

@@ -46,6 +46,8 @@ void AddDetectorOptions(CLI::App& command, DetectorArgs& args) {
                      "Detections file to replay (default: detections.jsonl of the dataset folder, when present)");
 }
 
+namespace {
+
 detect::DetectorOptions ChooseDetector(const DetectorArgs& args, const SequenceArgs& sequence,
                                        const pipeline::ExclusionOptions& exclusion) {
   detect::DetectorOptions options;
@@ -83,6 +85,16 @@ void CheckDetectionsFile(const detect::FileDetector& detector, const io::RgbdSeq
     spdlog::warn("{}: no detections for {} of the {} frames; those frames use the previous frame's detections",
                  detector.file().path().string(), missing, sequence.size());
   }
+}
+
+}  // namespace
+
+std::unique_ptr<detect::Detector> OpenDetector(const DetectorArgs& args, const SequenceArgs& sequence_args,
+                                               const pipeline::ExclusionOptions& exclusion,
+                                               const io::RgbdSequence& sequence) {
+  std::unique_ptr<detect::Detector> detector = detect::MakeDetector(ChooseDetector(args, sequence_args, exclusion));
+  if (const auto* file = dynamic_cast<const detect::FileDetector*>(detector.get())) CheckDetectionsFile(*file, sequence);
+  return detector;
 }
 
 }  // namespace hoidslam::apps

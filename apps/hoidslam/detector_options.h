@@ -3,6 +3,7 @@
 // and, for the commands that run the HOID filter (run, masks), the choice among a model, a detections file and
 // none.
 
+#include <memory>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -39,14 +40,13 @@ struct DetectorArgs {
 // Adds --detector, the ONNX options (--model optional) and --detections.
 void AddDetectorOptions(CLI::App& command, DetectorArgs& args);
 
-// The detector the options ask for. Without --detector: onnx when a model is given, the detections file when one
-// is given or the dataset has detections.jsonl (and the filter needs boxes), else none. Throws InputError naming
-// the parameter when a filter that needs boxes gets no detector, or --detector file no file.
-detect::DetectorOptions ChooseDetector(const DetectorArgs& args, const SequenceArgs& sequence,
-                                       const pipeline::ExclusionOptions& exclusion);
-
-// A detections file meant for another sequence fails now (InputError naming the file); one that lacks a few
-// frames is only reported (those frames reuse the previous frame's detections).
-void CheckDetectionsFile(const detect::FileDetector& detector, const io::RgbdSequence& sequence);
+// The detector the options ask for, ready for `sequence`. Without --detector: onnx when a model is given, the
+// detections file when one is given or the dataset has detections.jsonl (and the filter needs boxes), else none.
+// Throws InputError naming the parameter when a filter that needs boxes gets no detector, or --detector file no
+// file, and naming the file when a detections file is meant for another sequence (one that lacks a few frames is
+// only reported: those frames reuse the previous frame's detections).
+std::unique_ptr<detect::Detector> OpenDetector(const DetectorArgs& args, const SequenceArgs& sequence_args,
+                                               const pipeline::ExclusionOptions& exclusion,
+                                               const io::RgbdSequence& sequence);
 
 }  // namespace hoidslam::apps

@@ -47,8 +47,7 @@ void RunMasks(const MasksArgs& args) {
   const io::RgbdSequence sequence =
       OpenSequence(args.sequence, settings ? std::optional(settings->depth_map_factor) : std::nullopt);
   const std::unique_ptr<detect::Detector> detector =
-      detect::MakeDetector(ChooseDetector(args.detector, args.sequence, options.exclusion));
-  if (const auto* file = dynamic_cast<const detect::FileDetector*>(detector.get())) CheckDetectionsFile(*file, sequence);
+      OpenDetector(args.detector, args.sequence, options.exclusion, sequence);
 
   core::InterruptGuard interrupts;
   options.stop_requested = [&interrupts] { return interrupts.requested(); };

@@ -103,9 +103,8 @@ void RunRun(const RunArgs& args) {
 
   const io::RgbdSequence sequence =
       OpenSequence(args.sequence, settings ? std::optional(settings->depth_map_factor) : std::nullopt);
-  const detect::DetectorOptions detector_options = ChooseDetector(args.detector, args.sequence, options.exclusion);
-  std::unique_ptr<detect::Detector> detector = detect::MakeDetector(detector_options);
-  if (const auto* file = dynamic_cast<const detect::FileDetector*>(detector.get())) CheckDetectionsFile(*file, sequence);
+  const std::unique_ptr<detect::Detector> detector =
+      OpenDetector(args.detector, args.sequence, options.exclusion, sequence);
 
   io::AtomicFolder out(args.out, args.force, "--out", "use --force to replace it");
   core::InterruptGuard interrupts;

@@ -143,13 +143,6 @@ std::string DescribeResult(const RunResult& result) {
   return text;
 }
 
-const report::Table* FindTable(const BenchOutcome& outcome, const std::string& name) {
-  for (const NamedTable& named : outcome.tables) {
-    if (named.name == name) return &named.table;
-  }
-  return nullptr;
-}
-
 // The run of `mode` (its plain variant) on sequence `s` whose ATE is the median of the finished runs (the lower
 // one of an even count), so that the picture shows the run the table's figure stands for.
 std::optional<std::size_t> MedianRun(const BenchOutcome& outcome, std::size_t s, const std::string& mode) {
@@ -314,28 +307,16 @@ std::string RenderBenchReport(const BenchOutcome& outcome) {
       fmt::format("Folder: {} (tables.md, tables/*.csv, results.json; each run's own report in runs/<id>/report.html)",
                   plan.folder.string())};
 
-  // ATE per sequence and plain mode, NaN where no number.
   std::vector<std::string> sequences;
-  std::vector<std::string> modes = plan.options.modes;
-  std::vector<std::vector<double>> ate;
-  const report::Table* ate_table = FindTable(outcome, "ate");
-  for (std::size_t s = 0; s < plan.sequences.size(); ++s) {
-    sequences.push_back(plan.sequences[s].name);
-    std::vector<double>& row = ate.emplace_back();
-    for (std::size_t m = 0; m < modes.size(); ++m) {
-      const std::string& cell = ate_table->rows[s][m + 1];
-      // The chart shows the median the table shows; cells that are not a plain number have none.
-      row.push_back(cell.find_first_not_of("0123456789.") == std::string::npos && !cell.empty()
-                        ? std::stod(cell)
-                        : std::nan(""));
-    }
-  }
+  for (const BenchSequence& sequence : plan.sequences) sequences.push_back(sequence.name);
+  const report::Table* ate_table = FindTable(outcome.tables, "ate");
   std::vector<report::BenchReportSection> sections;
   sections.push_back({.heading = "Accuracy",
                       .text = "ATE RMSE per filter mode and sequence (the median of the runs). A × marks a mode "
                               "without a number: failed, missing or not applicable.",
                       .tables = {*ate_table},
-                      .svg_figures = {report::AteBarChartSvg(sequences, modes, ate)},
+                      .svg_figures = {report::AteBarChartSvg(sequences, plan.options.modes,
+                                                             AteMedians(plan, outcome.results))},
                       .html = {}});
 
   report::BenchReportSection trajectories{
@@ -384,7 +365,7 @@ std::string RenderBenchReport(const BenchOutcome& outcome) {
     report::BenchReportSection result{.heading = std::move(heading), .text = std::move(text), .tables = {},
                                       .svg_figures = {}, .html = {}};
     for (const std::string& name : names) {
-      if (const report::Table* table = FindTable(outcome, name)) result.tables.push_back(*table);
+      if (const report::Table* table = FindTable(outcome.tables, name)) result.tables.push_back(*table);
     }
     if (!result.tables.empty()) sections.push_back(std::move(result));
   };

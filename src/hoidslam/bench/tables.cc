@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 
 #include <fmt/format.h>
 
@@ -14,6 +15,8 @@ namespace {
 using Value = std::function<std::optional<double>(const RunResult&)>;
 
 double Median(std::vector<double> values) { return eval::ComputeStatistics(values).median; }
+
+const Value kAteRmse = [](const RunResult& r) { return r.ate_rmse; };
 
 // The runs of one sequence and one variant.
 struct Group {
@@ -148,11 +151,10 @@ report::Table Sweep(const Plan& plan, const Grid& grid, const std::string& mode,
   }
   report::Table table{.title = std::move(title), .note = std::move(note), .header = {"sequence"}, .rows = {}};
   for (const double value : values) table.header.push_back(fmt::format("{}", value));
-  const Value ate = [](const RunResult& r) { return r.ate_rmse; };
   for (std::size_t s = 0; s < plan.sequences.size(); ++s) {
     std::vector<std::string> row = {plan.sequences[s].name};
     for (const double value : values) {
-      row.push_back(grid.Cell(s, plan.SweepVariant(mode, value, is_area, plan.sequences[s]), ate, Metres));
+      row.push_back(grid.Cell(s, plan.SweepVariant(mode, value, is_area, plan.sequences[s]), kAteRmse, Metres));
     }
     table.rows.push_back(std::move(row));
   }
@@ -161,23 +163,41 @@ report::Table Sweep(const Plan& plan, const Grid& grid, const std::string& mode,
 
 }  // namespace
 
+const report::Table* FindTable(const std::vector<NamedTable>& tables, const std::string& name) {
+  for (const NamedTable& named : tables) {
+    if (named.name == name) return &named.table;
+  }
+  return nullptr;
+}
+
+std::vector<std::vector<double>> AteMedians(const Plan& plan, const std::vector<RunResult>& results) {
+  const Grid grid(plan, results);
+  std::vector<std::vector<double>> medians;
+  for (std::size_t s = 0; s < plan.sequences.size(); ++s) {
+    std::vector<double>& row = medians.emplace_back();
+    for (const std::size_t v : PlainVariants(plan)) {
+      row.push_back(grid.MedianOf(s, v, kAteRmse).value_or(std::numeric_limits<double>::quiet_NaN()));
+    }
+  }
+  return medians;
+}
+
 std::vector<NamedTable> BuildTables(const Plan& plan, const std::vector<RunResult>& results) {
   const Grid grid(plan, results);
   const auto has_mode = [&plan](const std::string& mode) { return PlainVariant(plan, mode).has_value(); };
   std::vector<NamedTable> tables;
 
-  const Value rmse = [](const RunResult& r) { return r.ate_rmse; };
   const Value mean = [](const RunResult& r) { return r.ate_mean; };
   const Value median = [](const RunResult& r) { return r.ate_median; };
-  tables.push_back({"ate", PerMode(plan, grid, "ATE RMSE (m) per filter mode", rmse, Metres)});
+  tables.push_back({"ate", PerMode(plan, grid, "ATE RMSE (m) per filter mode", kAteRmse, Metres)});
   tables.push_back({"ate_statistics",
                     PerMode(plan, "ATE RMSE / mean / median (m), as in the paper's Tables 3 and 5",
                             [&](std::size_t s, std::size_t v) {
-                              const auto r = grid.MedianOf(s, v, rmse);
+                              const auto r = grid.MedianOf(s, v, kAteRmse);
                               const auto a = grid.MedianOf(s, v, mean);
                               const auto m = grid.MedianOf(s, v, median);
                               if (!r || !a || !m || !plan.sequences[s].problem.empty()) {
-                                return grid.Cell(s, v, rmse, Metres);  // says why there is no number
+                                return grid.Cell(s, v, kAteRmse, Metres);  // says why there is no number
                               }
                               return fmt::format("{} / {} / {}{}", Metres(*r), Metres(*a), Metres(*m),
                                                  grid.Shortfall(s, v));
@@ -191,9 +211,9 @@ std::vector<NamedTable> BuildTables(const Plan& plan, const std::vector<RunResul
     const std::size_t v2 = *PlainVariant(plan, "hoid2d");
     const std::size_t v3 = *PlainVariant(plan, "hoid3d");
     for (std::size_t s = 0; s < plan.sequences.size(); ++s) {
-      const std::optional<double> a = grid.MedianOf(s, v2, rmse);
-      const std::optional<double> b = grid.MedianOf(s, v3, rmse);
-      table.rows.push_back({plan.sequences[s].name, grid.Cell(s, v2, rmse, Metres), grid.Cell(s, v3, rmse, Metres),
+      const std::optional<double> a = grid.MedianOf(s, v2, kAteRmse);
+      const std::optional<double> b = grid.MedianOf(s, v3, kAteRmse);
+      table.rows.push_back({plan.sequences[s].name, grid.Cell(s, v2, kAteRmse, Metres), grid.Cell(s, v3, kAteRmse, Metres),
                             a && b && plan.sequences[s].problem.empty() ? fmt::format("{:+.4f}", *b - *a) : "–"});
     }
     tables.push_back({"hoid_2d_3d", std::move(table)});

@@ -23,4 +23,11 @@ struct NamedTable {
 // with masks) are left out.
 std::vector<NamedTable> BuildTables(const Plan& plan, const std::vector<RunResult>& results);
 
+// The table named `name` in `tables`, or nullptr.
+const report::Table* FindTable(const std::vector<NamedTable>& tables, const std::string& name);
+
+// The `ate` table's medians as numbers: ATE RMSE (m) per sequence and plain mode (in plan.options.modes order),
+// NaN where the table has none (failed, missing, not applicable, no pose).
+std::vector<std::vector<double>> AteMedians(const Plan& plan, const std::vector<RunResult>& results);
+
 }  // namespace hoidslam::bench

@@ -1,5 +1,7 @@
 #include "hoidslam/bench/tables.h"
 
+#include <cmath>
+
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -35,10 +37,9 @@ RunResult Failed() {
 }
 
 const report::Table& Find(const std::vector<NamedTable>& tables, const std::string& name) {
-  for (const NamedTable& t : tables) {
-    if (t.name == name) return t.table;
-  }
-  throw std::runtime_error("no table " + name);
+  const report::Table* table = FindTable(tables, name);
+  if (table == nullptr) throw std::runtime_error("no table " + name);
+  return *table;
 }
 
 class BenchTables : public ::testing::Test {
@@ -96,6 +97,15 @@ TEST_F(BenchTables, StatisticsSweepsAndTwoAgainstThree) {
   EXPECT_THAT(versus.rows[0], ElementsAre("walking_xyz", "0.0060", "0.0060", "+0.0000"));
   EXPECT_THAT(versus.rows[1], ElementsAre("carry", "0.0060 (2/3)", "failed", "–"));
   for (const NamedTable& t : tables_) EXPECT_NE(t.name, "depth_sweep");  // none asked
+}
+
+TEST_F(BenchTables, AteMediansAreTheAteTablesNumbersAndNaNWhereItHasNone) {
+  const std::vector<std::vector<double>> medians = AteMedians(plan_, results_);
+  ASSERT_EQ(medians.size(), 3U);
+  EXPECT_DOUBLE_EQ(medians[0][0], 0.102);  // walking_xyz none: median of 0.101, 0.102, 0.103
+  EXPECT_DOUBLE_EQ(medians[1][1], 0.006);  // carry hoid2d: runs 1 and 3 finished
+  EXPECT_TRUE(std::isnan(medians[1][2]));  // carry hoid3d: failed
+  EXPECT_TRUE(std::isnan(medians[2][0]));  // missing sequence
 }
 
 TEST(BuildTables, RunsThatNeverTrackedSaySoInsteadOfANumber) {
