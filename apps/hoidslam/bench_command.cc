@@ -128,7 +128,8 @@ void AddBenchCommand(CLI::App& app) {
                       "walking_static, walking_halfsphere, walking_rpy, sitting_static, carry; none: no scenario)")
       ->delimiter(',');
   command->add_option("--modes", args->modes,
-                      "Filter modes (default: none,person,classes,hoid2d,hoid3d,oracle; oracle only where masks exist)")
+                      "Filter modes (default: none,person,classes,hoid2d,hoid3d,oracle; also hoidplus and its parts alone, e.g. "
+                      "hoidplus:depth; oracle only where masks exist)")
       ->delimiter(',');
   command->add_option("--runs", args->options.runs, "Runs per mode and sequence; the tables show the median")
       ->capture_default_str();

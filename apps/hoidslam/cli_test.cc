@@ -234,7 +234,7 @@ TEST(CliRun, DropsPeopleAndWhatTheyCarryAndStaysAccurate) {
   const testing::TempDir scratch;
   // Every second frame of walking_xyz: people walk through the view and pick things up from the 25th frame on.
   const fs::path sequence = Render(scratch, "walking_xyz", 150, 2);
-  for (const char* mode : {"hoid2d", "oracle"}) {
+  for (const char* mode : {"hoid2d", "hoidplus", "oracle"}) {
     const fs::path out = scratch / mode;
     // In step with local mapping, so the figure does not depend on how busy the machine is.
     const RunResult run = RunHoidslam(
@@ -244,7 +244,14 @@ TEST(CliRun, DropsPeopleAndWhatTheyCarryAndStaysAccurate) {
     EXPECT_EQ(summary["tracked"], 150) << mode;
     EXPECT_GT(summary["keypoints_dropped"].get<int>(), 1000) << mode;
     EXPECT_LT(summary["evaluation"]["ate"]["error_m"]["rmse"].get<double>(), 0.01) << mode;
+    EXPECT_LT(summary["exclusion_quality"]["leaked"].get<double>(), 0.05) << mode;
   }
+  // hoidplus logs every verdict with its track, and what its safety net did.
+  const std::string log = ReadText(scratch / "hoidplus" / "frames.jsonl");
+  EXPECT_THAT(log, HasSubstr(R"("track":)"));
+  EXPECT_THAT(log, HasSubstr(R"("static":[)"));
+  EXPECT_THAT(log, HasSubstr(R"("moving_points":)"));
+  EXPECT_TRUE(Summary(scratch / "hoidplus").contains("moving_points_erased"));
 }
 
 TEST(CliRun, DeterministicRunsWriteIdenticalFiles) {
@@ -266,19 +273,24 @@ TEST(CliRun, RealTumFramesWithTheOnnxDetector) {
   const testing::TempDir scratch;
   HOIDSLAM_SHARED_PATH_OR_SKIP(sequence, "data/tum/fr3_walking_xyz_pair");
   HOIDSLAM_SHARED_PATH_OR_SKIP(model, "models/yolox_nano.onnx");
-  const fs::path out = scratch / "run";
-  const RunResult run =
-      RunHoidslam(scratch, {"run", sequence.string(), "--settings", HOIDSLAM_CONFIG_DIR "/TUM3.yaml", "--model",
-                            model.string(), "--filter", "hoid3d", "--out", out.string()});
-  ASSERT_EQ(run.exit_status, 0) << run.err;
-  const nlohmann::json summary = Summary(out);
-  EXPECT_EQ(summary["frames"], 2);
-  EXPECT_EQ(summary["detector"], "yolox_nano.onnx");
-  EXPECT_GT(summary["keypoints_dropped"].get<int>(), 0);  // the people in these frames
-  std::size_t lines = 0;
-  for (const char c : ReadText(out / "frames.jsonl")) lines += c == '\n' ? 1 : 0;
-  EXPECT_EQ(lines, 2U);
-  EXPECT_THAT(ReadText(out / "frames.jsonl"), HasSubstr(R"("label":"person")"));
+  for (const char* mode : {"hoid3d", "hoidplus"}) {
+    const fs::path out = scratch / mode;
+    const RunResult run =
+        RunHoidslam(scratch, {"run", sequence.string(), "--settings", HOIDSLAM_CONFIG_DIR "/TUM3.yaml", "--model",
+                              model.string(), "--filter", mode, "--out", out.string()});
+    ASSERT_EQ(run.exit_status, 0) << run.err;
+    const nlohmann::json summary = Summary(out);
+    EXPECT_EQ(summary["frames"], 2) << mode;
+    EXPECT_EQ(summary["detector"], "yolox_nano.onnx");
+    EXPECT_GT(summary["keypoints_dropped"].get<int>(), 0) << mode;  // the people in these frames
+    std::size_t lines = 0;
+    for (const char c : ReadText(out / "frames.jsonl")) lines += c == '\n' ? 1 : 0;
+    EXPECT_EQ(lines, 2U);
+    EXPECT_THAT(ReadText(out / "frames.jsonl"), HasSubstr(R"("label":"person")"));
+  }
+  // On real depth, hoidplus keeps some of what lies behind the people that hoid3d drops with their boxes.
+  EXPECT_LT(Summary(scratch / "hoidplus")["keypoints_dropped"].get<int>(),
+            Summary(scratch / "hoid3d")["keypoints_dropped"].get<int>());
 }
 
 TEST(CliRun, NamesWhatIsMissingAndWritesNothing) {

@@ -36,6 +36,7 @@ void RunMasks(const MasksArgs& args) {
   if (!args.settings.empty()) settings = io::LoadSettings(args.settings);
   pipeline::MaskExportOptions options;
   options.exclusion.hoid = settings.value_or(io::Settings{}).hoid;
+  options.camera = settings.value_or(io::Settings{}).camera;
   if (!args.filter.empty()) pipeline::SetFilterMode(args.filter, options.exclusion, "--filter");
   options.format = pipeline::ParseMaskFormat(args.format, "--format");
   options.dilate = args.dilate;

@@ -77,6 +77,7 @@ nlohmann::json SummaryJson(const pipeline::RunSummary& s, const std::string& seq
           {"detector_failures", s.detector_failures},
           {"keypoints_extracted", s.keypoints_extracted},
           {"keypoints_dropped", s.keypoints_dropped},
+          {"moving_points_erased", s.moving_points},
           {"interrupted", s.interrupted},
           {"exclusion_quality", ExclusionQualityJson(s.exclusion)},
           {"median_ms",
@@ -141,6 +142,9 @@ void RunRun(const RunArgs& args) {
   fmt::print("keypoints: {} extracted, {} dropped by the filter ({:.1f} %)\n", summary.keypoints_extracted,
              summary.keypoints_dropped,
              summary.keypoints_extracted == 0 ? 0.0 : 100.0 * summary.keypoints_dropped / summary.keypoints_extracted);
+  if (options.exclusion.SafetyNet()) {
+    fmt::print("safety net: {} map points erased as moving\n", summary.moving_points);
+  }
   if (summary.exclusion) {
     fmt::print("against the moving masks: {:.1f} % of the keypoints on moving things kept (leaked), {:.1f} % of the "
                "static ones dropped (wasted)\n",
@@ -175,7 +179,8 @@ void AddRunCommand(CLI::App& app) {
                       "Settings file (ORB-SLAM3 format with a HOID section, e.g. config/TUM3.yaml; default: TUM fr3)");
   AddDetectorOptions(*command, args->detector);
   command->add_option("--filter", args->filter,
-                      "What is dropped: none, person, classes, hoid2d, hoid3d, or oracle (the ground-truth moving "
+                      "What is dropped: none, person, classes, hoid2d, hoid3d, hoidplus (HOID with depth, memory and a "
+                      "safety net; hoidplus:depth+memory etc. for some parts), or oracle (the ground-truth moving "
                       "masks of a synthetic sequence); default: HOID.mode of the settings, else hoid2d");
   command->add_option("--min-interaction-area", args->min_interaction_area,
                       "Overrides HOID.minInteractionArea: the share of an object's box a person's box must cover "

@@ -17,7 +17,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::vector<std::string> kModes = {"none", "person", "classes", "hoid2d", "hoid3d", "oracle"};
+const std::vector<std::string> kModes = {"none", "person", "classes", "hoid2d", "hoid3d", "hoidplus", "oracle"};
+constexpr std::string_view kHoidPlusPrefix = "hoidplus:";
 
 bool Contains(const std::vector<std::string>& list, const std::string& value) {
   return std::find(list.begin(), list.end(), value) != list.end();
@@ -41,9 +42,12 @@ std::size_t VariantIndex(std::vector<Variant>& variants, const Variant& variant)
 void BenchOptions::Check() const {
   if (modes.empty()) throw core::InputError::ForParameter("--modes", "needs at least one mode");
   for (const std::string& mode : modes) {
-    if (!Contains(kModes, mode)) {
+    if (mode.starts_with(kHoidPlusPrefix)) {
+      core::HoidPlusOptions().SetParts(std::string_view(mode).substr(kHoidPlusPrefix.size()), "--modes");
+    } else if (!Contains(kModes, mode)) {
       throw core::InputError::ForParameter(
-          "--modes", fmt::format("unknown mode '{}': use none, person, classes, hoid2d, hoid3d or oracle", mode));
+          "--modes",
+          fmt::format("unknown mode '{}': use none, person, classes, hoid2d, hoid3d, hoidplus[:parts] or oracle", mode));
     }
   }
   if (runs == 0) throw core::InputError::ForParameter("--runs", "must be at least 1");
@@ -71,7 +75,10 @@ std::string Variant::Name() const {
 std::string Variant::Slug() const {
   if (min_interaction_area) return fmt::format("{}-area{}", mode, Number(*min_interaction_area));
   if (depth_threshold) return fmt::format("{}-depth{}", mode, Number(*depth_threshold));
-  return mode;
+  // "hoidplus:depth+memory" names a folder as hoidplus-depth-memory.
+  std::string slug = mode;
+  std::replace_if(slug.begin(), slug.end(), [](char c) { return c == ':' || c == '+'; }, '-');
+  return slug;
 }
 
 std::vector<std::string> Plan::RunCommand(const RunSpec& spec) const {

@@ -12,6 +12,7 @@
 namespace hoidslam::bench {
 namespace {
 
+using ::testing::Contains;
 using ::testing::ElementsAre;
 using ::testing::HasSubstr;
 
@@ -104,6 +105,22 @@ TEST(MakePlan, RejectsBadOptionsNamingTheParameter) {
   EXPECT_THROW(MakePlan(options, {}, "/bin/hoidslam", "/b"), core::InputError);
   options = {};
   options.runs = 0;
+  EXPECT_THROW(MakePlan(options, {}, "/bin/hoidslam", "/b"), core::InputError);
+}
+
+TEST(MakePlan, HoidPlusPartsAreModesOfTheirOwn) {
+  BenchOptions options;
+  options.modes = {"hoid2d", "hoidplus", "hoidplus:depth+memory"};
+  options.runs = 1;
+  options.area_sweep = options.depth_sweep = {};
+  const Plan plan = MakePlan(options, {SyntheticSequence("walking_xyz")}, "/bin/hoidslam", "/b");
+  ASSERT_EQ(plan.variants.size(), 3U);
+  EXPECT_EQ(plan.variants[2].Name(), "hoidplus:depth+memory");
+  EXPECT_EQ(plan.variants[2].Slug(), "hoidplus-depth-memory");
+  ASSERT_EQ(plan.runs.size(), 3U);
+  EXPECT_EQ(plan.runs[2].id, "walking_xyz.hoidplus-depth-memory.r1");
+  EXPECT_THAT(plan.RunCommand(plan.runs[2]), Contains("hoidplus:depth+memory"));
+  options.modes = {"hoidplus:legs"};
   EXPECT_THROW(MakePlan(options, {}, "/bin/hoidslam", "/b"), core::InputError);
 }
 

@@ -10,12 +10,13 @@
 namespace hoidslam::core {
 namespace {
 
-constexpr EnumNames<FilterMode, 5> kModeNames = {{
+constexpr EnumNames<FilterMode, 6> kModeNames = {{
     {FilterMode::kNone, "none"},
     {FilterMode::kPerson, "person"},
     {FilterMode::kClasses, "classes"},
     {FilterMode::kHoid2d, "hoid2d"},
     {FilterMode::kHoid3d, "hoid3d"},
+    {FilterMode::kHoidPlus, "hoidplus"},
 }};
 
 }  // namespace
@@ -46,6 +47,52 @@ void HoidOptions::Check() const {
   for (const std::string& name : dynamic_classes) {
     if (name.empty()) throw InputError::ForParameter("HOID.dynamicClasses", "contains an empty class name");
   }
+  plus.Check();
+}
+
+void HoidPlusOptions::SetParts(std::string_view parts, const std::string& parameter) {
+  depth = memory = safety_net = false;
+  std::string_view rest = parts;
+  while (true) {
+    const std::size_t end = rest.find('+');
+    const std::string_view part = rest.substr(0, end);
+    if (part == "depth") {
+      depth = true;
+    } else if (part == "memory") {
+      memory = true;
+    } else if (part == "net") {
+      safety_net = true;
+    } else {
+      throw InputError::ForParameter(
+          parameter, fmt::format("unknown hoidplus part '{}' in '{}': use depth, memory and net, joined by +", part, parts));
+    }
+    if (end == std::string_view::npos) break;
+    rest = rest.substr(end + 1);
+  }
+}
+
+void HoidPlusOptions::Check() const {
+  const auto positive = [](double value, const char* name) {
+    if (!(value > 0.0)) throw InputError::ForParameter(name, fmt::format("must be > 0, got {}", value));
+  };
+  const auto not_negative = [](double value, const char* name) {
+    if (!(value >= 0.0)) throw InputError::ForParameter(name, fmt::format("must be >= 0, got {}", value));
+  };
+  const auto share = [](double value, const char* name) {
+    if (!(value > 0.0 && value <= 1.0)) throw InputError::ForParameter(name, fmt::format("must be in (0, 1], got {}", value));
+  };
+  positive(depth_bin, "HOIDplus.depthBin");
+  share(valley, "HOIDplus.valley");
+  share(foreground_share, "HOIDplus.foregroundShare");
+  not_negative(depth_extent, "HOIDplus.depthExtent");
+  not_negative(edge_margin, "HOIDplus.edgeMargin");
+  not_negative(box_margin, "HOIDplus.boxMargin");
+  share(association_iou, "HOIDplus.associationIoU");
+  share(relabel_iou, "HOIDplus.relabelIoU");
+  not_negative(max_missed_seconds, "HOIDplus.maxMissedSeconds");
+  not_negative(still_seconds, "HOIDplus.stillSeconds");
+  positive(still_distance, "HOIDplus.stillDistance");
+  positive(moving_point_outliers, "HOIDplus.movingPointOutliers");
 }
 
 void OrbOptions::Check() const {

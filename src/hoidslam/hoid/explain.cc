@@ -32,6 +32,12 @@ std::string CaptionDecision(const core::Detection& detection, const Decision& de
       return caption + fmt::format(" held {:.0f}%", 100.0F * decision.interaction_ratio);
     case Reason::kDepthRejected:
       return caption + fmt::format(" behind {:.2f}m", decision.depth_difference);
+    case Reason::kCarried:
+      return caption + " carried";
+    case Reason::kRecentlyHandled:
+      return caption + " handled";
+    case Reason::kSeenStill:
+      return caption + " still";
     case Reason::kNoInteraction:
       return decision.person_index >= 0 ? caption + fmt::format(" {:.0f}%", 100.0F * decision.interaction_ratio)
                                         : caption;

@@ -178,6 +178,9 @@ std::string_view ToString(Reason reason) {
     case Reason::kDepthConfirmed: return "depth_confirmed";
     case Reason::kDepthRejected: return "depth_rejected";
     case Reason::kDepthUnavailable: return "depth_unavailable";
+    case Reason::kCarried: return "carried";
+    case Reason::kRecentlyHandled: return "recently_handled";
+    case Reason::kSeenStill: return "seen_still";
   }
   return "unknown";
 }

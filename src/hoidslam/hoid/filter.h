@@ -17,6 +17,7 @@
 //            compared (no valid depth pixel in either box, or no depth image), the 2D verdict stands: the object
 //            stays dynamic (Reason::kDepthUnavailable). Dropping the features of a possibly handled object costs
 //            a few static features; keeping those of a moving one corrupts the pose.
+//   hoidplus as hoid2d here; hoid::HoidPlusFilter (hoidplus.h) adds depth, memory and their reasons.
 // Objects whose label is not in options.dynamic_classes are static in every mode.
 
 #include <cstdint>
@@ -45,6 +46,9 @@ enum class Reason : std::uint8_t {
   kDepthConfirmed,         // dynamic: hoid3d, 2D passed and an interacting person's depth agrees
   kDepthRejected,          // static: hoid3d, 2D passed but every interacting person's depth differs by >= threshold
   kDepthUnavailable,       // dynamic: hoid3d, 2D passed, no depth agrees, and some pair had no valid depth
+  kCarried,                // dynamic: hoidplus, a person (or handled object) the detector missed, box carried
+  kRecentlyHandled,        // dynamic: hoidplus, an object a person handled, not yet seen still long enough
+  kSeenStill,              // static: hoidplus, a handled (or touched) object memory saw still for the set time
 };
 
 // "person", "mode_keeps_all", "not_potentially_dynamic", ... (snake case of the enumerator, for logs).

@@ -51,6 +51,11 @@ constexpr std::array kSpelledKeys = {kFx, kFy, kCx, kCy, kK1, kK2, kP1, kP2, kK3
 constexpr std::array<std::string_view, 6> kHoidKeys = {"HOID.mode",           "HOID.minInteractionArea",
                                                        "HOID.depthThreshold", "HOID.sampleBoxSize",
                                                        "HOID.personClass",    "HOID.dynamicClasses"};
+constexpr std::array<std::string_view, 15> kHoidPlusKeys = {
+    "HOIDplus.depthRefinement", "HOIDplus.depthBin",         "HOIDplus.valley",  "HOIDplus.depthExtent", "HOIDplus.foregroundShare",         "HOIDplus.edgeMargin",
+    "HOIDplus.boxMargin",       "HOIDplus.memory",           "HOIDplus.associationIoU", "HOIDplus.relabelIoU",
+    "HOIDplus.maxMissedSeconds", "HOIDplus.stillSeconds",    "HOIDplus.stillDistance",  "HOIDplus.safetyNet",
+    "HOIDplus.movingPointOutliers"};
 
 void RequirePositive(const std::string& name, double value) {
   if (!(value > 0.0 && std::isfinite(value))) {
@@ -172,6 +177,11 @@ void CheckKeyNames(const cv::FileNode& root) {
       throw InputError::ForParameter(name,
                                      fmt::format("unknown key (the HOID section has {})", fmt::join(kHoidKeys, ", ")));
     }
+    if (name.starts_with("HOIDplus.") &&
+        std::find(kHoidPlusKeys.begin(), kHoidPlusKeys.end(), name) == kHoidPlusKeys.end()) {
+      throw InputError::ForParameter(
+          name, fmt::format("unknown key (the HOIDplus section has {})", fmt::join(kHoidPlusKeys, ", ")));
+    }
   }
 }
 
@@ -259,6 +269,22 @@ Settings ReadSettings(const cv::FileNode& root) {
   read("HOID.sampleBoxSize", hoid.sample_box_size);
   read("HOID.personClass", hoid.person_class);
   read("HOID.dynamicClasses", hoid.dynamic_classes);
+  core::HoidPlusOptions& plus = hoid.plus;
+  read("HOIDplus.depthRefinement", plus.depth);
+  read("HOIDplus.depthBin", plus.depth_bin);
+  read("HOIDplus.valley", plus.valley);
+  read("HOIDplus.depthExtent", plus.depth_extent);
+  read("HOIDplus.foregroundShare", plus.foreground_share);
+  read("HOIDplus.edgeMargin", plus.edge_margin);
+  read("HOIDplus.boxMargin", plus.box_margin);
+  read("HOIDplus.memory", plus.memory);
+  read("HOIDplus.associationIoU", plus.association_iou);
+  read("HOIDplus.relabelIoU", plus.relabel_iou);
+  read("HOIDplus.maxMissedSeconds", plus.max_missed_seconds);
+  read("HOIDplus.stillSeconds", plus.still_seconds);
+  read("HOIDplus.stillDistance", plus.still_distance);
+  read("HOIDplus.safetyNet", plus.safety_net);
+  read("HOIDplus.movingPointOutliers", plus.moving_point_outliers);
 
   CheckSettings(settings, spelling);
   return settings;

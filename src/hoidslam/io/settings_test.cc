@@ -233,6 +233,10 @@ INSTANTIATE_TEST_SUITE_P(
                       BadValue{"HOID.dynamicClasses", "person", "HOID.dynamicClasses", "must be a list"},
                       BadValue{"HOID.dynamicClasses", "[person, 3]", "HOID.dynamicClasses", "element 2"},
                       BadValue{"HOID.minInteractionAreas", "0.3", "HOID.minInteractionAreas", "unknown key"},
+                      BadValue{"HOIDplus.valley", "0", "HOIDplus.valley", "(0, 1]"},
+                      BadValue{"HOIDplus.edgeMargin", "-1", "HOIDplus.edgeMargin", "must be >= 0"},
+                      BadValue{"HOIDplus.memory", "2", "HOIDplus.memory", "must be 0 or 1"},
+                      BadValue{"HOIDplus.stillSecond", "1", "HOIDplus.stillSecond", "unknown key"},
                       BadValue{"File.version", "\"2.0\"", "File.version", "only \"1.0\""},
                       BadValue{"Camera1.fx", "500", "Camera1.fx", "File.version"}),
     // Stable, readable test names ("7_Camera_k1") for ctest, instead of the parameter's bytes.
@@ -243,6 +247,33 @@ INSTANTIATE_TEST_SUITE_P(
       }
       return name;
     });
+
+TEST_F(SettingsFile, ReadsTheHoidPlusSection) {
+  const Settings settings = LoadSettings(Write(
+      "%YAML:1.0\nCamera.fx: 535.4\nCamera.fy: 539.2\nCamera.cx: 320.1\nCamera.cy: 247.6\nHOID.mode: hoidplus\n"
+      "HOIDplus.depthRefinement: 0\nHOIDplus.depthBin: 0.05\nHOIDplus.valley: 0.3\nHOIDplus.depthExtent: 0.4\n"
+      "HOIDplus.foregroundShare: 0.2\nHOIDplus.edgeMargin: 4\nHOIDplus.boxMargin: 0.1\nHOIDplus.memory: 1\n"
+      "HOIDplus.associationIoU: 0.4\nHOIDplus.relabelIoU: 0.7\nHOIDplus.maxMissedSeconds: 0.3\n"
+      "HOIDplus.stillSeconds: 2\nHOIDplus.stillDistance: 0.05\nHOIDplus.safetyNet: 0\n"
+      "HOIDplus.movingPointOutliers: 4\n"));
+  const core::HoidPlusOptions& plus = settings.hoid.plus;
+  EXPECT_EQ(settings.hoid.mode, core::FilterMode::kHoidPlus);
+  EXPECT_FALSE(plus.depth);
+  EXPECT_DOUBLE_EQ(plus.depth_bin, 0.05);
+  EXPECT_DOUBLE_EQ(plus.valley, 0.3);
+  EXPECT_DOUBLE_EQ(plus.depth_extent, 0.4);
+  EXPECT_DOUBLE_EQ(plus.foreground_share, 0.2);
+  EXPECT_EQ(plus.edge_margin, 4);
+  EXPECT_DOUBLE_EQ(plus.box_margin, 0.1);
+  EXPECT_TRUE(plus.memory);
+  EXPECT_DOUBLE_EQ(plus.association_iou, 0.4);
+  EXPECT_DOUBLE_EQ(plus.relabel_iou, 0.7);
+  EXPECT_DOUBLE_EQ(plus.max_missed_seconds, 0.3);
+  EXPECT_DOUBLE_EQ(plus.still_seconds, 2.0);
+  EXPECT_DOUBLE_EQ(plus.still_distance, 0.05);
+  EXPECT_FALSE(plus.safety_net);
+  EXPECT_EQ(plus.moving_point_outliers, 4);
+}
 
 TEST_F(SettingsFile, RejectsARepeatedKey) {
   const fs::path path = Write(

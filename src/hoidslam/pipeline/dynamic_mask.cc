@@ -107,7 +107,7 @@ MaskExportSummary ExportMasks(const io::RgbdSequence& sequence, detect::Detector
                               const MaskExportOptions& options) {
   options.Check();
   // Run's own exclusion: the same checks (an oracle needs mask/), and the same verdicts on the detections.
-  const KeypointExclusion exclusion(options.exclusion, sequence.root());
+  KeypointExclusion exclusion(options.exclusion, sequence.root(), options.camera);
   const std::size_t total = options.max_frames == 0 ? sequence.size() : std::min(options.max_frames, sequence.size());
   if (options.format == MaskFormat::kDynaslam) CheckDynaslamNames(sequence, total);
 
@@ -125,7 +125,7 @@ MaskExportSummary ExportMasks(const io::RgbdSequence& sequence, detect::Detector
   double masked_share_sum = 0.0;
   core::ProgressReporter progress("masks", total);
   std::vector<core::Detection> detections;  // kept across frames: a failed frame reuses the last ones, as in run
-  std::vector<hoid::Decision> decisions;
+  hoid::JudgedBoxes boxes;
   std::vector<std::uint8_t> no_keypoints;
   for (std::size_t index = 0; index < total; ++index) {
     if (options.stop_requested && options.stop_requested()) throw core::Interrupted();
@@ -138,8 +138,8 @@ MaskExportSummary ExportMasks(const io::RgbdSequence& sequence, detect::Detector
         ++summary.detector_failures;
       }
       // Run's exclusion on no keypoints: only its verdicts on the detections are wanted here.
-      exclusion.Mark(frame, detections, {}, no_keypoints, decisions);
-      marked = PaintDynamicBoxes(detections, decisions, frame.rgb.size());
+      exclusion.Mark(frame, detections, {}, cv::Mat(), no_keypoints, boxes);
+      marked = exclusion.PaintDropped(frame, boxes);
     }
     DilateMask(marked, options.dilate);
     masked_share_sum += static_cast<double>(cv::countNonZero(marked)) / static_cast<double>(marked.total());

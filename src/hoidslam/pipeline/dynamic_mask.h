@@ -66,6 +66,7 @@ cv::Mat EncodeMask(const cv::Mat& marked, MaskFormat format);
 
 struct MaskExportOptions {
   ExclusionOptions exclusion;                 // what is masked: the HOID mode and rules, or oracle
+  core::CameraIntrinsics camera;              // the sequence's camera (hoidplus places objects with it)
   MaskFormat format = MaskFormat::kHoidslam;  // --format
   int dilate = 0;                             // --dilate: pixels every masked region grows by, >= 0
   std::size_t max_frames = 0;                 // --frames: 0 for the whole sequence

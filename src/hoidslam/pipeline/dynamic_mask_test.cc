@@ -345,16 +345,17 @@ void CompareWithRun(const io::RgbdSequence& sequence, const MaskExportOptions& o
   RunOptions run = RunOptions::FromSettings(io::Settings{});
   run.system.deterministic = true;
   slam::System system(run.system);
-  const KeypointExclusion exclusion(options.exclusion, sequence.root());
+  KeypointExclusion exclusion(options.exclusion, sequence.root());
   detect::FileDetector detector(sequence.root() / "detections.jsonl");
   const MaskValues values = ValuesOf(options.format);
   std::vector<std::uint8_t> keep;
-  std::vector<hoid::Decision> decisions;
+  hoid::JudgedBoxes boxes;
+  const std::vector<hoid::Decision>& decisions = boxes.decisions;
   for (std::size_t i = 0; i < sequence.size(); ++i) {
     const core::RgbdFrame frame = sequence.LoadFrame(i);
     const std::vector<cv::KeyPoint> keypoints = system.Extract(frame.rgb).keypoints;
     const std::vector<core::Detection> detections = detector.Detect(frame.timestamp, frame.rgb);
-    exclusion.Mark(frame, detections, keypoints, keep, decisions);
+    exclusion.Mark(frame, detections, keypoints, cv::Mat(), keep, boxes);
     const cv::Mat mask = ReadMask(options.out / (sequence.entry(i).rgb_path.stem().string() + ".png"));
     ASSERT_EQ(mask.type(), CV_8UC1) << i;
     ASSERT_EQ(mask.size(), frame.rgb.size()) << i;

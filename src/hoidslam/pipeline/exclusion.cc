@@ -3,25 +3,51 @@
 #include <cmath>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <opencv2/imgcodecs.hpp>
 
 #include "hoidslam/core/error.h"
 #include "hoidslam/io/files.h"
+#include "hoidslam/pipeline/dynamic_mask.h"
 
 namespace hoidslam::pipeline {
 
-std::string_view ExclusionOptions::ModeName() const { return oracle ? "oracle" : core::ToString(hoid.mode); }
+namespace {
+
+constexpr std::string_view kHoidPlusPrefix = "hoidplus:";
+
+}  // namespace
+
+std::string ExclusionOptions::ModeName() const {
+  if (oracle) return "oracle";
+  const core::HoidPlusOptions& plus = hoid.plus;
+  if (hoid.mode != core::FilterMode::kHoidPlus || (plus.depth && plus.memory && plus.safety_net)) {
+    return std::string(core::ToString(hoid.mode));
+  }
+  std::vector<std::string_view> parts;
+  if (plus.depth) parts.push_back("depth");
+  if (plus.memory) parts.push_back("memory");
+  if (plus.safety_net) parts.push_back("net");
+  return fmt::format("hoidplus:{}", fmt::join(parts, "+"));
+}
 
 void SetFilterMode(std::string_view text, ExclusionOptions& options, const std::string& parameter) {
   if (text == "oracle") {
     options.oracle = true;
     return;
   }
+  if (text.starts_with(kHoidPlusPrefix)) {
+    options.hoid.plus.SetParts(text.substr(kHoidPlusPrefix.size()), parameter);
+    options.hoid.mode = core::FilterMode::kHoidPlus;
+    options.oracle = false;
+    return;
+  }
   try {
     options.hoid.mode = core::ParseFilterMode(text, parameter);
   } catch (const core::InputError&) {
     throw core::InputError::ForParameter(
-        parameter, fmt::format("unknown mode '{}': use none, person, classes, hoid2d, hoid3d or oracle", text));
+        parameter,
+        fmt::format("unknown mode '{}': use none, person, classes, hoid2d, hoid3d, hoidplus[:parts] or oracle", text));
   }
   options.oracle = false;
 }
@@ -50,9 +76,11 @@ bool OnMask(const cv::Mat& mask, const cv::KeyPoint& keypoint) {
   return x >= 0 && y >= 0 && x < mask.cols && y < mask.rows && mask.at<std::uint8_t>(y, x) != 0;
 }
 
-KeypointExclusion::KeypointExclusion(const ExclusionOptions& options, const std::filesystem::path& sequence_root)
+KeypointExclusion::KeypointExclusion(const ExclusionOptions& options, const std::filesystem::path& sequence_root,
+                                     const core::CameraIntrinsics& camera)
     : options_(options) {
   options_.hoid.Check();
+  if (!options_.oracle && options_.hoid.mode == core::FilterMode::kHoidPlus) plus_.emplace(options_.hoid, camera);
   if (std::filesystem::is_directory(sequence_root / "mask")) {
     mask_folder_ = sequence_root / "mask";
   } else if (options_.oracle) {
@@ -92,18 +120,36 @@ ExclusionCounts KeypointExclusion::Score(const core::RgbdFrame& frame, std::span
 }
 
 void KeypointExclusion::Mark(const core::RgbdFrame& frame, std::span<const core::Detection> detections,
-                             std::span<const cv::KeyPoint> keypoints, std::vector<std::uint8_t>& keep,
-                             std::vector<hoid::Decision>& decisions) const {
+                             std::span<const cv::KeyPoint> keypoints, const cv::Mat& descriptors,
+                             std::vector<std::uint8_t>& keep, hoid::JudgedBoxes& boxes) {
+  if (plus_) {
+    plus_->Filter(frame.timestamp, frame.depth, detections, keypoints, descriptors, boxes, keep);
+    return;
+  }
+  boxes.detections.assign(detections.begin(), detections.end());
+  boxes.context.clear();
   core::HoidOptions hoid = options_.hoid;
   if (options_.oracle) hoid.mode = core::FilterMode::kNone;  // the boxes are logged, not used
-  hoid::ClassifyDetections(detections, hoid, frame.depth, decisions);
+  hoid::ClassifyDetections(detections, hoid, frame.depth, boxes.decisions);
   if (!options_.oracle) {
-    hoid::MarkKeypointsToKeep(keypoints, detections, decisions, keep);
+    hoid::MarkKeypointsToKeep(keypoints, detections, boxes.decisions, keep);
     return;
   }
   const cv::Mat& mask = MovingMask(frame);
   keep.resize(keypoints.size());
   for (std::size_t i = 0; i < keypoints.size(); ++i) keep[i] = OnMask(mask, keypoints[i]) ? 0 : 1;
+}
+
+void KeypointExclusion::AfterTracking(const std::optional<core::Pose>& T_cw) {
+  if (plus_) plus_->Localize(T_cw);
+}
+
+cv::Mat KeypointExclusion::PaintDropped(const core::RgbdFrame& frame, const hoid::JudgedBoxes& boxes) const {
+  if (plus_) {
+    return hoid::PaintExclusionRegions(hoid::DynamicRegions(boxes), options_.hoid.plus.depth ? frame.depth : cv::Mat(),
+                                       frame.rgb.size());
+  }
+  return PaintDynamicBoxes(boxes.detections, boxes.decisions, frame.rgb.size());
 }
 
 }  // namespace hoidslam::pipeline

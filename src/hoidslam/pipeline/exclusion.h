@@ -1,7 +1,8 @@
 #pragma once
 // Which keypoints of a frame take part in tracking: the exclusion step between ORB extraction and tracking.
 // In the detector-based modes (none, person, classes, hoid2d, hoid3d) the HOID filter judges the frame's
-// detections and every keypoint inside a dynamic box is dropped; in mode `oracle` the keypoints on the
+// detections and every keypoint inside a dynamic box is dropped; mode hoidplus adds depth-refined exclusion and
+// memory across frames (hoid/hoidplus.h) and turns on the SLAM core's safety net; in mode `oracle` the keypoints on the
 // sequence's ground-truth moving-pixel mask (`mask/` of a synthetic sequence) are dropped instead — the upper
 // bound of what any filter can do. On a sequence with masks, every mode is also scored against them: how many of
 // the keypoints on moving things were kept (leaked) and how many static ones were dropped (wasted).
@@ -16,10 +17,15 @@
 #include <opencv2/core/mat.hpp>
 #include <opencv2/core/types.hpp>
 
+#include <optional>
+
+#include "hoidslam/core/camera.h"
 #include "hoidslam/core/detection.h"
 #include "hoidslam/core/frame.h"
 #include "hoidslam/core/options.h"
+#include "hoidslam/core/pose.h"
 #include "hoidslam/hoid/filter.h"
+#include "hoidslam/hoid/hoidplus.h"
 
 namespace hoidslam::pipeline {
 
@@ -27,13 +33,19 @@ struct ExclusionOptions {
   core::HoidOptions hoid;  // the mode and rules of the detector-based modes
   bool oracle = false;     // drop the ground-truth moving pixels instead; detections are then only logged
 
-  // "none", "person", "classes", "hoid2d", "hoid3d" or "oracle", as `--filter` takes it.
-  std::string_view ModeName() const;
+  // "none", "person", "classes", "hoid2d", "hoid3d", "hoidplus" (all three parts), "hoidplus:depth+memory" (the
+  // parts named) or "oracle", as `--filter` takes it.
+  std::string ModeName() const;
   // Whether the mode needs a detector's boxes.
   bool NeedsDetections() const { return !oracle && hoid.mode != core::FilterMode::kNone; }
+  // Whether the SLAM core's safety net is on (mode hoidplus with its net part).
+  bool SafetyNet() const { return !oracle && hoid.mode == core::FilterMode::kHoidPlus && hoid.plus.safety_net; }
 };
 
-// Parses a `--filter` value into `options` (the mode; the HOID rules stay). Throws InputError naming `parameter`.
+// Parses a `--filter` value into `options` (the mode; "hoidplus" keeps the parts HOIDplus.* switches on, all three
+// by default, and "hoidplus:depth", "hoidplus:memory+net" turn on only the parts named, from depth, memory and
+// net; the HOID rules stay).
+// Throws InputError naming `parameter`.
 void SetFilterMode(std::string_view text, ExclusionOptions& options, const std::string& parameter = "--filter");
 
 // A frame's keypoints counted against the ground-truth moving mask.
@@ -53,18 +65,28 @@ struct ExclusionCounts {
 // to. The oracle drops and the scoring counts by this one rule.
 bool OnMask(const cv::Mat& mask, const cv::KeyPoint& keypoint);
 
+// One run's exclusion, frame after frame (mode hoidplus remembers earlier frames: one instance per run, frames in
+// order).
 class KeypointExclusion {
  public:
-  // `sequence_root`: where an oracle looks for mask/. Throws InputError when the options fail Check(), or for
-  // oracle when the folder has no mask/ folder.
-  KeypointExclusion(const ExclusionOptions& options, const std::filesystem::path& sequence_root);
+  // `sequence_root`: where an oracle looks for mask/; `camera`: the sequence's (hoidplus places objects with it).
+  // Throws InputError when the options fail Check(), or for oracle when the folder has no mask/ folder.
+  KeypointExclusion(const ExclusionOptions& options, const std::filesystem::path& sequence_root,
+                    const core::CameraIntrinsics& camera = {});
 
-  // keep[i] = 0 for the keypoints to drop. `decisions` gets the HOID filter's verdict on every detection (all
-  // static in oracle mode). `rgb_path` names the frame's colour image, whose mask the oracle reads. Throws
-  // InputError naming the mask file when it is missing or not the frame's size.
+  // keep[i] = 0 for the keypoints to drop. `boxes` gets every box judged and the filter's verdict on it (the
+  // detections; for hoidplus also the boxes of tracked people the detector missed; all static in oracle mode).
+  // `descriptors` (one row per keypoint, may be empty) let hoidplus carry missed boxes with their keypoints. The
+  // oracle reads the mask named like the frame's colour image. Throws InputError naming the mask file when it is
+  // missing or not the frame's size.
   void Mark(const core::RgbdFrame& frame, std::span<const core::Detection> detections,
-            std::span<const cv::KeyPoint> keypoints, std::vector<std::uint8_t>& keep,
-            std::vector<hoid::Decision>& decisions) const;
+            std::span<const cv::KeyPoint> keypoints, const cv::Mat& descriptors, std::vector<std::uint8_t>& keep,
+            hoid::JudgedBoxes& boxes);
+  // The pose tracking found for the frame last marked (nullopt: not tracked); hoidplus's memory needs it.
+  void AfterTracking(const std::optional<core::Pose>& T_cw);
+  // The pixels the frame last marked drops, CV_8UC1 255 = dropped (not for oracle, whose mask is its own):
+  // the dynamic boxes, or for hoidplus with depth their foreground regions.
+  cv::Mat PaintDropped(const core::RgbdFrame& frame, const hoid::JudgedBoxes& boxes) const;
 
   // Whether the sequence has ground-truth moving masks to score against.
   bool CanScore() const { return !mask_folder_.empty(); }
@@ -78,6 +100,7 @@ class KeypointExclusion {
 
  private:
   ExclusionOptions options_;
+  std::optional<hoid::HoidPlusFilter> plus_;  // mode hoidplus
   std::filesystem::path mask_folder_;  // empty when the sequence has no masks
   mutable std::filesystem::path cached_mask_path_;  // one KeypointExclusion per run: not shared across threads
   mutable cv::Mat cached_mask_;

@@ -50,6 +50,59 @@ TEST(SetFilterMode, AcceptsTheHoidModesAndOracle) {
   EXPECT_TRUE(options.NeedsDetections());
 }
 
+TEST(SetFilterMode, HoidPlusTakesItsPartsByName) {
+  ExclusionOptions options;
+  SetFilterMode("hoidplus", options);
+  EXPECT_EQ(options.hoid.mode, core::FilterMode::kHoidPlus);
+  EXPECT_EQ(options.ModeName(), "hoidplus");
+  EXPECT_TRUE(options.SafetyNet());
+  SetFilterMode("hoidplus:memory+depth", options);
+  EXPECT_TRUE(options.hoid.plus.depth);
+  EXPECT_TRUE(options.hoid.plus.memory);
+  EXPECT_FALSE(options.hoid.plus.safety_net);
+  EXPECT_FALSE(options.SafetyNet());
+  EXPECT_EQ(options.ModeName(), "hoidplus:depth+memory");
+  SetFilterMode("hoidplus:net", options);
+  EXPECT_EQ(options.ModeName(), "hoidplus:net");
+  EXPECT_TRUE(options.SafetyNet());
+  // Plain hoidplus keeps the parts the settings switched on.
+  SetFilterMode("hoidplus", options);
+  EXPECT_EQ(options.ModeName(), "hoidplus:net");
+  for (const char* bad : {"hoidplus:", "hoidplus:depth+", "hoidplus:depth+legs"}) {
+    EXPECT_THAT([&] { SetFilterMode(bad, options, "--filter"); },
+                ::testing::ThrowsMessage<core::InputError>(
+                    ::testing::AllOf(::testing::HasSubstr("--filter"), ::testing::HasSubstr("depth, memory and net"))))
+        << bad;
+  }
+}
+
+TEST(KeypointExclusion, HoidPlusKeepsWhatIsBehindThePersonAndRemembersThem) {
+  ExclusionOptions options;
+  SetFilterMode("hoidplus", options);
+  KeypointExclusion exclusion(options, ".");
+  core::RgbdFrame frame = Frame();
+  frame.depth = cv::Mat(480, 640, CV_32FC1, cv::Scalar(4.0F));
+  frame.depth(cv::Rect(120, 120, 110, 260)).setTo(2.0F);  // the person, in front of the wall
+  const std::vector<cv::KeyPoint> keypoints = {cv::KeyPoint(150, 200, 31), cv::KeyPoint(104, 390, 31)};
+  const std::vector<core::Detection> person = {Det("person", 100, 100, 150, 300)};
+  std::vector<std::uint8_t> keep;
+  hoid::JudgedBoxes boxes;
+  for (int k = 0; k < 2; ++k) {
+    frame.timestamp = k / 30.0;
+    exclusion.Mark(frame, person, keypoints, cv::Mat(), keep, boxes);
+    exclusion.AfterTracking(core::Pose::Identity());
+  }
+  EXPECT_EQ(keep, (std::vector<std::uint8_t>{0, 1}));  // the person dropped, the wall behind them kept
+  frame.timestamp = 2 / 30.0;
+  exclusion.Mark(frame, {}, keypoints, cv::Mat(), keep, boxes);  // the detector missed them
+  ASSERT_EQ(boxes.detections.size(), 1U);
+  EXPECT_EQ(boxes.decisions[0].reason, hoid::Reason::kCarried);
+  EXPECT_EQ(keep[0], 0);
+  const cv::Mat painted = exclusion.PaintDropped(frame, boxes);
+  EXPECT_EQ(painted.at<std::uint8_t>(200, 150), 255);
+  EXPECT_EQ(painted.at<std::uint8_t>(390, 104), 0);
+}
+
 TEST(SetFilterMode, NamesTheParameterAndTheChoices) {
   ExclusionOptions options;
   try {
@@ -64,22 +117,22 @@ TEST(SetFilterMode, NamesTheParameterAndTheChoices) {
 TEST(KeypointExclusion, Hoid2dDropsThePersonAndTheObjectInHand) {
   ExclusionOptions options;
   SetFilterMode("hoid2d", options);
-  const KeypointExclusion exclusion(options, ".");
+  KeypointExclusion exclusion(options, ".");
   std::vector<std::uint8_t> keep;
-  std::vector<hoid::Decision> decisions;
-  exclusion.Mark(Frame(), kDetections, kKeypoints, keep, decisions);
+  hoid::JudgedBoxes boxes;
+  exclusion.Mark(Frame(), kDetections, kKeypoints, cv::Mat(), keep, boxes);
   EXPECT_EQ(keep, (std::vector<std::uint8_t>{1, 0, 0, 1}));
-  ASSERT_EQ(decisions.size(), 3U);
-  EXPECT_TRUE(decisions[1].dynamic);
-  EXPECT_FALSE(decisions[2].dynamic);
+  ASSERT_EQ(boxes.decisions.size(), 3U);
+  EXPECT_TRUE(boxes.decisions[1].dynamic);
+  EXPECT_FALSE(boxes.decisions[2].dynamic);
 }
 
 TEST(KeypointExclusion, NoneKeepsEverything) {
   ExclusionOptions options;
   SetFilterMode("none", options);
   std::vector<std::uint8_t> keep;
-  std::vector<hoid::Decision> decisions;
-  KeypointExclusion(options, ".").Mark(Frame(), kDetections, kKeypoints, keep, decisions);
+  hoid::JudgedBoxes boxes;
+  KeypointExclusion(options, ".").Mark(Frame(), kDetections, kKeypoints, cv::Mat(), keep, boxes);
   EXPECT_EQ(keep, (std::vector<std::uint8_t>{1, 1, 1, 1}));
 }
 
@@ -93,8 +146,9 @@ TEST(KeypointExclusion, OracleDropsExactlyTheMaskedKeypointsAndIgnoresBoxes) {
   ExclusionOptions options;
   SetFilterMode("oracle", options);
   std::vector<std::uint8_t> keep;
-  std::vector<hoid::Decision> decisions;
-  KeypointExclusion(options, dir.path()).Mark(Frame(), kDetections, kKeypoints, keep, decisions);
+  hoid::JudgedBoxes boxes;
+  const std::vector<hoid::Decision>& decisions = boxes.decisions;
+  KeypointExclusion(options, dir.path()).Mark(Frame(), kDetections, kKeypoints, cv::Mat(), keep, boxes);
   EXPECT_EQ(keep, (std::vector<std::uint8_t>{1, 1, 1, 0}));
   for (const hoid::Decision& d : decisions) EXPECT_FALSE(d.dynamic);
 }
@@ -108,11 +162,11 @@ TEST(KeypointExclusion, ScoresAnyModeAgainstTheMovingMask) {
 
   ExclusionOptions options;
   SetFilterMode("hoid2d", options);
-  const KeypointExclusion exclusion(options, dir.path());
+  KeypointExclusion exclusion(options, dir.path());
   ASSERT_TRUE(exclusion.CanScore());
   std::vector<std::uint8_t> keep;
-  std::vector<hoid::Decision> decisions;
-  exclusion.Mark(Frame(), kDetections, kKeypoints, keep, decisions);
+  hoid::JudgedBoxes boxes;
+  exclusion.Mark(Frame(), kDetections, kKeypoints, cv::Mat(), keep, boxes);
   const ExclusionCounts counts = exclusion.Score(Frame(), kKeypoints, keep);
   EXPECT_EQ(counts.moving_dropped, 1U);  // the person
   EXPECT_EQ(counts.moving_kept, 0U);
@@ -153,11 +207,11 @@ TEST(KeypointExclusion, OracleNamesAMissingMaskFile) {
   std::filesystem::create_directories(dir / "mask");
   ExclusionOptions options;
   SetFilterMode("oracle", options);
-  const KeypointExclusion exclusion(options, dir.path());
+  KeypointExclusion exclusion(options, dir.path());
   std::vector<std::uint8_t> keep;
-  std::vector<hoid::Decision> decisions;
+  hoid::JudgedBoxes boxes;
   try {
-    exclusion.Mark(Frame("rgb/7.000000.png"), kDetections, kKeypoints, keep, decisions);
+    exclusion.Mark(Frame("rgb/7.000000.png"), kDetections, kKeypoints, cv::Mat(), keep, boxes);
     FAIL() << "no error";
   } catch (const core::InputError& e) {
     EXPECT_THAT(e.what(), ::testing::HasSubstr("7.000000.png"));

@@ -26,20 +26,35 @@ double Round(double value, int decimals) {
   return std::round(value * scale) / scale;
 }
 
-nlohmann::json DynamicDetections(const std::vector<core::Detection>& detections,
-                                 const std::vector<hoid::Decision>& decisions) {
+// The judged boxes with `dynamic` as their verdict, with their reasons (and, for hoidplus, what memory and
+// depth added).
+nlohmann::json JudgedBoxList(const hoid::JudgedBoxes& boxes, bool dynamic) {
   nlohmann::json list = nlohmann::json::array();
-  for (std::size_t i = 0; i < detections.size(); ++i) {
-    if (!decisions[i].dynamic) continue;
-    const core::Detection& d = detections[i];
+  for (std::size_t i = 0; i < boxes.detections.size(); ++i) {
+    const hoid::Decision& decision = boxes.decisions[i];
+    if (decision.dynamic != dynamic) continue;
+    const core::Detection& d = boxes.detections[i];
     nlohmann::json entry = {{"label", d.label},
                             {"score", Round(d.score, 3)},
                             {"box", {Round(d.box.x, 1), Round(d.box.y, 1), Round(d.box.width, 1),
                                      Round(d.box.height, 1)}},
-                            {"reason", hoid::ToString(decisions[i].reason)}};
-    if (decisions[i].person_index >= 0 && decisions[i].person_index != static_cast<int>(i)) {
-      entry["person"] = decisions[i].person_index;
-      entry["interaction"] = Round(decisions[i].interaction_ratio, 3);
+                            {"reason", hoid::ToString(decision.reason)}};
+    if (decision.person_index >= 0 && decision.person_index != static_cast<int>(i)) {
+      entry["person"] = decision.person_index;
+      entry["interaction"] = Round(decision.interaction_ratio, 3);
+    }
+    if (!std::isnan(decision.depth_difference)) entry["depth_difference"] = Round(decision.depth_difference, 3);
+    if (i < boxes.context.size()) {
+      const hoid::BoxContext& context = boxes.context[i];
+      if (context.track != 0) entry["track"] = context.track;
+      if (context.missed_frames > 0) {
+        entry["missed_frames"] = context.missed_frames;
+        entry["carried_by"] = hoid::ToString(context.carry);
+      }
+      if (dynamic && context.foreground) {
+        entry["foreground"] = {Round(context.foreground->near, 3), Round(context.foreground->far, 3)};
+        entry["kept_beyond"] = Round(context.region.cut, 3);
+      }
     }
     list.push_back(std::move(entry));
   }
@@ -54,13 +69,13 @@ bool IsSnapshot(std::size_t index, std::size_t total, std::size_t count) {
   return false;
 }
 
-void WriteSnapshot(const std::filesystem::path& path, const core::RgbdFrame& frame,
-                   const std::vector<core::Detection>& detections, const std::vector<hoid::Decision>& decisions,
+void WriteSnapshot(const std::filesystem::path& path, const core::RgbdFrame& frame, const hoid::JudgedBoxes& boxes,
                    const std::vector<cv::KeyPoint>& keypoints, const std::vector<std::uint8_t>& keep) {
   std::vector<report::BoxAnnotation> annotations;
-  annotations.reserve(detections.size());
-  for (std::size_t i = 0; i < detections.size(); ++i) {
-    annotations.push_back({detections[i].box, hoid::CaptionDecision(detections[i], decisions[i]), decisions[i].dynamic});
+  annotations.reserve(boxes.detections.size());
+  for (std::size_t i = 0; i < boxes.detections.size(); ++i) {
+    annotations.push_back({boxes.detections[i].box, hoid::CaptionDecision(boxes.detections[i], boxes.decisions[i]),
+                           boxes.decisions[i].dynamic});
   }
   cv::Mat image = report::DrawBoxAnnotations(frame.rgb, annotations);
   report::DrawKeptAndDropped(image, keypoints, keep);
@@ -94,8 +109,12 @@ std::optional<std::string> DetectOrKeepPrevious(detect::Detector& detector, cons
 
 RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detector, const RunOptions& options,
                        const std::filesystem::path& folder, const std::function<bool()>& stop_requested) {
-  const KeypointExclusion exclusion(options.exclusion, sequence.root());
-  slam::System system(options.system);
+  KeypointExclusion exclusion(options.exclusion, sequence.root(), options.system.camera);
+  slam::SystemOptions system_options = options.system;
+  if (options.exclusion.SafetyNet()) {
+    system_options.tracking.moving_point_outliers = options.exclusion.hoid.plus.moving_point_outliers;
+  }
+  slam::System system(system_options);
   spdlog::info("{}: {} frames, filter {}, detector {}{}", sequence.name(), sequence.size(),
                options.exclusion.ModeName(), detector.Name(), options.system.deterministic ? ", deterministic" : "");
   io::AtomicFile log(folder / "frames.jsonl");
@@ -107,7 +126,7 @@ RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detec
   if (exclusion.CanScore()) summary.exclusion.emplace();
   core::ProgressReporter progress("run", total);
   std::vector<core::Detection> detections;  // kept across frames: a failed frame reuses the last ones
-  std::vector<hoid::Decision> decisions;
+  hoid::JudgedBoxes boxes;
   std::vector<std::uint8_t> keep;
   for (std::size_t index = 0; index < total; ++index) {
     if (stop_requested && stop_requested()) {
@@ -135,7 +154,7 @@ RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detec
     }
 
     clock.Restart();
-    exclusion.Mark(frame, detections, features.keypoints, keep, decisions);
+    exclusion.Mark(frame, detections, features.keypoints, features.descriptors, keep, boxes);
     times.filter = clock.ElapsedMilliseconds();
     const auto kept = static_cast<std::size_t>(std::count(keep.begin(), keep.end(), std::uint8_t{1}));
     if (exclusion.CanScore()) {
@@ -147,17 +166,18 @@ RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detec
                             {"static_dropped", counts.static_dropped}};
     }
     if (IsSnapshot(index, total, options.snapshots)) {
-      WriteSnapshot(folder / "snapshots" / fmt::format("{:06d}.jpg", index), frame, detections, decisions,
-                    features.keypoints, keep);
+      WriteSnapshot(folder / "snapshots" / fmt::format("{:06d}.jpg", index), frame, boxes, features.keypoints, keep);
     }
 
     clock.Restart();
     const slam::TrackResult result = system.Track(frame, features, keep);
     times.track = clock.ElapsedMilliseconds();
+    exclusion.AfterTracking(result.T_cw);
 
     ++summary.frames;
     summary.keypoints_extracted += features.keypoints.size();
     summary.keypoints_dropped += features.keypoints.size() - kept;
+    summary.moving_points += static_cast<std::size_t>(result.moving_points);
     if (result.T_cw) {
       ++summary.tracked;
     } else if (result.state == slam::TrackingState::kNotInitialized) {
@@ -174,7 +194,10 @@ RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detec
                          {"dropped", features.keypoints.size() - kept},
                          {"matched", result.matched},
                          {"inliers", result.inliers}};
-    entry["dynamic"] = DynamicDetections(detections, decisions);
+    if (options.exclusion.SafetyNet()) entry["features"]["moving_points"] = result.moving_points;
+    entry["dynamic"] = JudgedBoxList(boxes, true);
+    // Every verdict of hoidplus is logged, since memory can keep or release a box whatever the frame shows.
+    if (!boxes.context.empty()) entry["static"] = JudgedBoxList(boxes, false);
     entry["ms"] = {{"load", Round(times.load, 3)},       {"extract", Round(times.extract, 3)},
                    {"detect", Round(times.detect, 3)},   {"filter", Round(times.filter, 3)},
                    {"track", Round(times.track, 3)}};

@@ -8,7 +8,8 @@
 //   keyframes.txt   the keyframes, TUM format
 //   map.ply         the sparse map, coloured
 //   frames.jsonl    one JSON object per frame: state, features extracted / dropped / matched / inliers, the
-//                   dynamic detections with their reasons, time of each stage, and on a sequence with
+//                   dynamic detections with their reasons (hoidplus: every box, with track, carry and
+//                   foreground depth, and the map points its safety net erased), time of each stage, and on a sequence with
 //                   ground-truth moving masks the keypoints kept and dropped on moving and static pixels
 //                   (docs/slam.md has the schema)
 //   snapshots/      a few frames drawn as the filter saw them: boxes coloured by the HOID decision, keypoints
@@ -56,6 +57,7 @@ struct RunSummary {
   std::size_t detector_failures = 0;  // frames whose detections could not be had (the previous ones were used)
   std::size_t keypoints_extracted = 0;
   std::size_t keypoints_dropped = 0;
+  std::size_t moving_points = 0;     // map points the safety net erased (hoidplus)
   std::vector<StageTimes> times;     // one per frame
   std::optional<ExclusionCounts> exclusion;  // over all frames, when the sequence has ground-truth moving masks
   bool interrupted = false;          // stopped early by the caller; the outputs hold the frames done

@@ -5,7 +5,7 @@
 // a point that is culled or fused into another is only marked bad (and, when fused, points to its replacement),
 // so the non-owning pointers that frames and keyframes hold stay valid. Every member is read with
 // Map::mutex() held, shared or exclusive, and changed with it held exclusively — except the tracking statistics
-// (visible / found), which tracking updates under a shared lock and are therefore atomic.
+// (visible / found / outlier streak), which tracking updates under a shared lock and are therefore atomic.
 
 #include <atomic>
 #include <cstdint>
@@ -64,6 +64,15 @@ class MapPoint {
   void IncreaseVisible(int n = 1) { visible_.fetch_add(n, std::memory_order_relaxed); }
   void IncreaseFound(int n = 1) { found_.fetch_add(n, std::memory_order_relaxed); }
   float FoundRatio() const;
+  // The geometric safety net's count: how many times in a row the point was matched by a frame yet misfit its
+  // pose. Returns the count after this frame.
+  int RecordOutlier(bool outlier) {
+    if (!outlier) {
+      outlier_streak_.store(0, std::memory_order_relaxed);
+      return 0;
+    }
+    return outlier_streak_.fetch_add(1, std::memory_order_relaxed) + 1;
+  }
 
  private:
   friend class Map;  // the graph operations (observations, bad flag, replacement) go through the Map
@@ -88,6 +97,7 @@ class MapPoint {
   MapPoint* replaced_by_ = nullptr;
   std::atomic<int> visible_{1};
   std::atomic<int> found_{1};
+  std::atomic<int> outlier_streak_{0};
 };
 
 }  // namespace hoidslam::slam

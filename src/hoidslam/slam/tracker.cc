@@ -78,6 +78,11 @@ void TrackerOptions::Check() const {
   positive(keyframe_max_interval, "Tracking.keyFrameMaxInterval");
   positive(relocalization_candidates, "Tracking.relocalizationCandidates");
   positive(keyframe_min_new_points, "Tracking.keyFrameMinNewPoints");
+  positive(moving_point_depth, "Tracking.movingPointDepth");
+  if (moving_point_outliers < 0) {
+    throw core::InputError::ForParameter("Tracking.movingPointOutliers",
+                                         fmt::format("must be >= 0 (0: off), got {}", moving_point_outliers));
+  }
 }
 
 Tracker::Tracker(Map& map, LocalMapper& local_mapper, const TrackerOptions& options)
@@ -137,6 +142,15 @@ TrackResult Tracker::Track(Frame frame) {
     }
   }
 
+  if (!moving_points_.empty()) {
+    std::unique_lock lock(map_.mutex());
+    for (MapPoint* p : moving_points_) map_.ErasePoint(p);
+    for (MapPoint*& p : frame.map_points) {
+      if (p != nullptr && p->bad()) p = nullptr;
+    }
+    result.moving_points = static_cast<int>(moving_points_.size());
+    moving_points_.clear();
+  }
   if (state_ == TrackingState::kNotInitialized) {
     std::unique_lock lock(map_.mutex());
     ok = Initialize(frame);
@@ -314,10 +328,35 @@ bool Tracker::TrackLocalMap(Frame& frame, TrackResult& result) {
     if (frame.IsInlier(i)) frame.map_points[static_cast<std::size_t>(i)]->IncreaseFound();
   }
   spdlog::debug("frame {}: local map: {} matched, {} inliers", frame.id, result.matched, result.inliers);
+  FindMovingPoints(frame, result);
   const bool relocalized_lately =
       last_relocalization_frame_id_ &&
       frame.id < *last_relocalization_frame_id_ + static_cast<std::uint64_t>(options_.keyframe_max_interval);
   return result.inliers >= (relocalized_lately ? options_.min_inliers_after_relocalization : options_.min_inliers);
+}
+
+void Tracker::FindMovingPoints(const Frame& frame, const TrackResult& result) {
+  moving_points_.clear();
+  if (options_.moving_point_outliers == 0) return;
+  // Only a pose most matches agree with can accuse a point: on a weak frame the misfits may be the pose's fault.
+  if (result.inliers < 2 * options_.min_inliers || 2 * result.inliers < result.matched) return;
+  const RgbdCamera& camera = frame.keypoints->sensor().camera;
+  for (int i = 0; i < frame.size(); ++i) {
+    MapPoint* p = frame.map_points[static_cast<std::size_t>(i)];
+    if (p == nullptr || p->bad()) continue;
+    // A misfit: measured at a depth off by more than moving_point_depth of the predicted one. Where a matched
+    // point is seen in the image cannot tell: the search by projection only matches it within a few pixels of
+    // its prediction, so a moving point is either found nearly in place (and within the pose optimiser's bound)
+    // or not at all; a wrong match to a similar corner nearby misfits again and again on a static point. Depth is
+    // measured, not searched.
+    const KeypointMeasurement m = frame.keypoints->Measurement(i);
+    if (!m.has_depth) continue;
+    const Eigen::Vector3d p_c = frame.T_cw * p->position();
+    if (!(p_c.z() > 0.0)) continue;
+    const double depth = camera.bf / (m.uv.x() - m.ur);
+    const bool misfit = std::abs(depth - p_c.z()) > options_.moving_point_depth * p_c.z();
+    if (p->RecordOutlier(misfit) >= options_.moving_point_outliers) moving_points_.push_back(p);
+  }
 }
 
 bool Tracker::NeedNewKeyFrame(const Frame& frame, int inliers) const {

@@ -43,6 +43,12 @@ struct TrackerOptions {
   // is often all that is left, and more far points keep tracking alive there (walking_rpy: 6.0 → 4.0 mm).
   int keyframe_min_new_points = 1000;
   int relocalization_candidates = 10;  // keyframes tried per lost frame, besides the last reference's neighbours
+  // The geometric safety net (mode hoidplus): a map point whose measured depth misfits the tracked pose (off by
+  // more than moving_point_depth of the predicted depth) this many times in a row, counted on well-tracked frames
+  // where it is matched, is taken to be on something moving and erased from the map. 0: off. It catches what no
+  // detector saw; a static point's depth rarely misfits thrice running.
+  int moving_point_outliers = 0;
+  double moving_point_depth = 0.1;
   PoseOptimizerOptions pose_optimizer;
 
   void Check() const;
@@ -55,6 +61,7 @@ struct TrackResult {
   int matched = 0;    // keypoints matched to map points before the final pose optimisation
   int inliers = 0;    // of those, kept by it
   bool keyframe = false;  // the frame became a keyframe
+  int moving_points = 0;  // map points the safety net erased on this frame
   std::optional<core::Pose> T_cw;  // when tracked
 };
 
@@ -84,6 +91,8 @@ class Tracker {
   // Refines the pose against the local map; fills result.matched / inliers; true when enough inliers remain.
   bool TrackLocalMap(Frame& frame, TrackResult& result);
   std::vector<KeyFrame*> LocalKeyFrames(Frame& frame) const;
+  // The safety net: counts the frame's misfitting matches and collects the points that misfit too often.
+  void FindMovingPoints(const Frame& frame, const TrackResult& result);
   bool NeedNewKeyFrame(const Frame& frame, int inliers) const;
   void CreateKeyFrame(Frame& frame);
 
@@ -102,6 +111,7 @@ class Tracker {
   std::uint64_t last_keyframe_frame_id_ = 0;
   std::optional<std::uint64_t> last_relocalization_frame_id_;
   std::vector<FrameRecord> records_;
+  std::vector<MapPoint*> moving_points_;  // found by the safety net on the current frame, erased after tracking it
 };
 
 }  // namespace hoidslam::slam
