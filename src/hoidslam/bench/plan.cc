@@ -18,7 +18,6 @@ namespace {
 namespace fs = std::filesystem;
 
 const std::vector<std::string> kModes = {"none", "person", "classes", "hoid2d", "hoid3d", "hoidplus", "oracle"};
-constexpr std::string_view kHoidPlusPrefix = "hoidplus:";
 
 bool Contains(const std::vector<std::string>& list, const std::string& value) {
   return std::find(list.begin(), list.end(), value) != list.end();
@@ -42,8 +41,8 @@ std::size_t VariantIndex(std::vector<Variant>& variants, const Variant& variant)
 void BenchOptions::Check() const {
   if (modes.empty()) throw core::InputError::ForParameter("--modes", "needs at least one mode");
   for (const std::string& mode : modes) {
-    if (mode.starts_with(kHoidPlusPrefix)) {
-      core::HoidPlusOptions().SetParts(std::string_view(mode).substr(kHoidPlusPrefix.size()), "--modes");
+    if (mode.starts_with(core::kHoidPlusPartsPrefix)) {
+      core::HoidPlusOptions().SetParts(std::string_view(mode).substr(core::kHoidPlusPartsPrefix.size()), "--modes");
     } else if (!Contains(kModes, mode)) {
       throw core::InputError::ForParameter(
           "--modes",

@@ -22,6 +22,9 @@ std::string_view ToString(FilterMode mode);
 // Parses "none", "person", "classes", "hoid2d", "hoid3d", "hoidplus"; throws InputError naming `parameter` otherwise.
 FilterMode ParseFilterMode(std::string_view text, const std::string& parameter = "HOID.mode");
 
+// A filter mode written "hoidplus:PARTS" (as --filter and bench --modes take it) runs only the parts named.
+inline constexpr std::string_view kHoidPlusPartsPrefix = "hoidplus:";
+
 // What mode hoidplus adds to the HOID rule (settings section HOIDplus.*; docs/hoidplus.md). Each part can be
 // switched off on its own, for ablations.
 struct HoidPlusOptions {

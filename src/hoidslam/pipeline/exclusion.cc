@@ -12,12 +12,6 @@
 
 namespace hoidslam::pipeline {
 
-namespace {
-
-constexpr std::string_view kHoidPlusPrefix = "hoidplus:";
-
-}  // namespace
-
 std::string ExclusionOptions::ModeName() const {
   if (oracle) return "oracle";
   const core::HoidPlusOptions& plus = hoid.plus;
@@ -28,7 +22,7 @@ std::string ExclusionOptions::ModeName() const {
   if (plus.depth) parts.push_back("depth");
   if (plus.memory) parts.push_back("memory");
   if (plus.safety_net) parts.push_back("net");
-  return fmt::format("hoidplus:{}", fmt::join(parts, "+"));
+  return fmt::format("{}{}", core::kHoidPlusPartsPrefix, fmt::join(parts, "+"));
 }
 
 void SetFilterMode(std::string_view text, ExclusionOptions& options, const std::string& parameter) {
@@ -36,8 +30,8 @@ void SetFilterMode(std::string_view text, ExclusionOptions& options, const std::
     options.oracle = true;
     return;
   }
-  if (text.starts_with(kHoidPlusPrefix)) {
-    options.hoid.plus.SetParts(text.substr(kHoidPlusPrefix.size()), parameter);
+  if (text.starts_with(core::kHoidPlusPartsPrefix)) {
+    options.hoid.plus.SetParts(text.substr(core::kHoidPlusPartsPrefix.size()), parameter);
     options.hoid.mode = core::FilterMode::kHoidPlus;
     options.oracle = false;
     return;
