@@ -352,6 +352,23 @@ TEST(CliMasks, WritesAMaskPerFrameNamedLikeTheColourImagesAndAList) {
   EXPECT_GT(frames_with_masked_pixels, 0U);
   EXPECT_GT(frames_clear, 0U);
   EXPECT_EQ(std::distance(fs::directory_iterator(out), fs::directory_iterator()), 31);  // 30 masks + masks.txt
+
+  // hoidplus masks the people but keeps what lies behind them in their boxes: fewer pixels in all.
+  const fs::path plus = scratch / "masks_hoidplus";
+  const RunResult plus_masks = RunHoidslam(scratch, {"masks", sequence.string(), "--filter", "hoidplus", "--format",
+                                                     "stella", "--frames", "30", "--out", plus.string()});
+  ASSERT_EQ(plus_masks.exit_status, 0) << plus_masks.err;
+  EXPECT_THAT(plus_masks.out, HasSubstr("walking_xyz: 30 masks (hoidplus, format stella) in "));
+  std::size_t masked_hoid2d = 0;
+  std::size_t masked_hoidplus = 0;
+  for (const std::string& line : lines) {
+    const std::string file = line.substr(line.find(' ') + 1);
+    masked_hoid2d += static_cast<std::size_t>(cv::countNonZero(cv::imread((out / file).string(), cv::IMREAD_UNCHANGED) == 0));
+    masked_hoidplus +=
+        static_cast<std::size_t>(cv::countNonZero(cv::imread((plus / file).string(), cv::IMREAD_UNCHANGED) == 0));
+  }
+  EXPECT_GT(masked_hoidplus, 0U);
+  EXPECT_LT(masked_hoidplus, masked_hoid2d);
 }
 
 TEST(CliMasks, NamesWhatIsWrongAndWritesNothing) {
