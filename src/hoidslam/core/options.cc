@@ -1,6 +1,8 @@
 #include "hoidslam/core/options.h"
 
 #include <algorithm>
+#include <array>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -17,6 +19,13 @@ constexpr EnumNames<FilterMode, 6> kModeNames = {{
     {FilterMode::kHoid2d, "hoid2d"},
     {FilterMode::kHoid3d, "hoid3d"},
     {FilterMode::kHoidPlus, "hoidplus"},
+}};
+
+// hoidplus's parts by the names --filter hoidplus:PARTS uses, in the order they are printed.
+constexpr std::array<std::pair<std::string_view, bool HoidPlusOptions::*>, 3> kHoidPlusParts = {{
+    {"depth", &HoidPlusOptions::depth},
+    {"memory", &HoidPlusOptions::memory},
+    {"net", &HoidPlusOptions::safety_net},
 }};
 
 }  // namespace
@@ -51,24 +60,31 @@ void HoidOptions::Check() const {
 }
 
 void HoidPlusOptions::SetParts(std::string_view parts, const std::string& parameter) {
-  depth = memory = safety_net = false;
+  for (const auto& [name, on] : kHoidPlusParts) this->*on = false;
   std::string_view rest = parts;
   while (true) {
     const std::size_t end = rest.find('+');
     const std::string_view part = rest.substr(0, end);
-    if (part == "depth") {
-      depth = true;
-    } else if (part == "memory") {
-      memory = true;
-    } else if (part == "net") {
-      safety_net = true;
-    } else {
+    const auto named = std::find_if(kHoidPlusParts.begin(), kHoidPlusParts.end(),
+                                    [&](const auto& entry) { return entry.first == part; });
+    if (named == kHoidPlusParts.end()) {
       throw InputError::ForParameter(
           parameter, fmt::format("unknown hoidplus part '{}' in '{}': use depth, memory and net, joined by +", part, parts));
     }
+    this->*(named->second) = true;
     if (end == std::string_view::npos) break;
     rest = rest.substr(end + 1);
   }
+}
+
+std::string HoidPlusOptions::Parts() const {
+  std::string parts;
+  for (const auto& [name, on] : kHoidPlusParts) {
+    if (!(this->*on)) continue;
+    if (!parts.empty()) parts += '+';
+    parts += name;
+  }
+  return parts;
 }
 
 void HoidPlusOptions::Check() const {

@@ -63,6 +63,8 @@ struct HoidPlusOptions {
   // Turns on only the parts named in `parts`, "+"-separated from depth, memory and net (as in
   // `--filter hoidplus:depth+memory`). Throws InputError naming `parameter` for an unknown or empty part.
   void SetParts(std::string_view parts, const std::string& parameter);
+  // The parts switched on, as SetParts takes them ("depth+memory+net"; "" when none).
+  std::string Parts() const;
   void Check() const;
 };
 

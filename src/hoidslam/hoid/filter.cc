@@ -30,11 +30,6 @@ double OverlapArea(const Edges& a, const Edges& b) {
   return w > 0.0 && h > 0.0 ? w * h : 0.0;
 }
 
-cv::Point2f Centre(const cv::Rect2f& box) { return {box.x + box.width * 0.5F, box.y + box.height * 0.5F}; }
-
-// Non-short-circuit `&`: the copy loop in SampleDepth stays branch-free over scattered sensor holes.
-bool IsValidDepth(float d) { return (d > 0.0F) & (d < std::numeric_limits<float>::infinity()); }
-
 // How an object's depth compares with one interacting person's.
 enum class DepthMatch { kAgrees, kDiffers, kUnavailable };
 
@@ -95,13 +90,13 @@ void ClassifyObject(std::size_t object, std::span<const core::Detection> detecti
     interacts = true;
     if (!use_depth) continue;
     if (!object_sampled) {
-      out.depth = SampleDepth(depth, Centre(detections[object].box), options.sample_box_size);
+      out.depth = SampleDepth(depth, BoxCentre(detections[object].box), options.sample_box_size);
       object_sampled = true;
     }
     // Persons are shared between objects: a valid depth is sampled once, an invalid one again (rare, and cheap).
     float& person_depth = decisions[p].depth;
     if (!IsValidDepth(person_depth)) {
-      person_depth = SampleDepth(depth, Centre(detections[p].box), options.sample_box_size);
+      person_depth = SampleDepth(depth, BoxCentre(detections[p].box), options.sample_box_size);
     }
     DepthMatch match = DepthMatch::kUnavailable;
     if (IsValidDepth(out.depth) && IsValidDepth(person_depth)) {
@@ -185,13 +180,17 @@ std::string_view ToString(Reason reason) {
   return "unknown";
 }
 
-float SampleDepth(const cv::Mat& depth, cv::Point2f centre, int size) {
-  if (size < 1) throw std::invalid_argument("SampleDepth: box size must be >= 1, got " + std::to_string(size));
-  if (depth.empty()) return kNaN;
-  if (depth.type() != CV_32FC1) {
-    throw std::invalid_argument("SampleDepth: depth image must be CV_32FC1 (metres), got type " +
+void CheckDepthImage(const cv::Mat& depth, std::string_view function) {
+  if (!depth.empty() && depth.type() != CV_32FC1) {
+    throw std::invalid_argument(std::string(function) + ": depth image must be CV_32FC1 (metres), got type " +
                                 std::to_string(depth.type()));
   }
+}
+
+float SampleDepth(const cv::Mat& depth, cv::Point2f centre, int size) {
+  if (size < 1) throw std::invalid_argument("SampleDepth: box size must be >= 1, got " + std::to_string(size));
+  CheckDepthImage(depth, "SampleDepth");
+  if (depth.empty()) return kNaN;
   if (!std::isfinite(centre.x) || !std::isfinite(centre.y)) return kNaN;
   // Clip in double before converting, so far-off centres cannot overflow an int.
   const double left = std::floor(static_cast<double>(centre.x) - size * 0.5);
@@ -243,10 +242,7 @@ std::vector<Decision> ClassifyDetections(std::span<const core::Detection> detect
 void ClassifyDetections(std::span<const core::Detection> detections, const core::HoidOptions& options,
                         const cv::Mat& depth, std::vector<Decision>& decisions) {
   options.Check();
-  if (!depth.empty() && depth.type() != CV_32FC1) {
-    throw std::invalid_argument("ClassifyDetections: depth image must be CV_32FC1 (metres), got type " +
-                                std::to_string(depth.type()));
-  }
+  CheckDepthImage(depth, "ClassifyDetections");
   decisions.assign(detections.size(), Decision{});
   if (options.mode == core::FilterMode::kNone) return;  // every default Decision is kModeKeepsAll, static
 

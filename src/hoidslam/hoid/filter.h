@@ -83,6 +83,16 @@ std::vector<Decision> ClassifyDetections(std::span<const core::Detection> detect
 void ClassifyDetections(std::span<const core::Detection> detections, const core::HoidOptions& options,
                         const cv::Mat& depth, std::vector<Decision>& decisions);
 
+// A depth value (metres) is valid when it is > 0 and finite. Non-short-circuit `&`: loops over scattered sensor
+// holes stay branch-free.
+inline bool IsValidDepth(float d) { return (d > 0.0F) & (d < std::numeric_limits<float>::infinity()); }
+
+// Throws std::invalid_argument naming `function` unless `depth` is empty or CV_32FC1 (metres).
+void CheckDepthImage(const cv::Mat& depth, std::string_view function);
+
+// The centre of a box, (x + w/2, y + h/2).
+inline cv::Point2f BoxCentre(const cv::Rect2f& box) { return {box.x + box.width * 0.5F, box.y + box.height * 0.5F}; }
+
 // Median of the valid (> 0, finite) depths in the size×size pixel box centred on `centre` (pixels
 // [floor(centre - size/2), floor(centre - size/2) + size) on each axis), clipped to the image; the mean of the
 // two middle values for an even count. NaN when the box holds no valid pixel or `depth` is empty.

@@ -14,24 +14,11 @@ constexpr std::size_t kTargetSamples = 500;
 constexpr std::size_t kMinSamples = 10;
 constexpr double kMinDepth = 0.05;  // metres: the histogram's origin, below any RGB-D sensor's range
 
-bool IsValidDepth(float d) { return d > 0.0F && d < std::numeric_limits<float>::infinity(); }
-
 // The integer pixels whose position p satisfies low <= p < high, clipped to [0, limit).
 std::pair<int, int> PixelsInside(float low, float high, int limit) {
   const double first = std::clamp(std::ceil(static_cast<double>(low)), 0.0, static_cast<double>(limit));
   const double end = std::clamp(std::ceil(static_cast<double>(high)), 0.0, static_cast<double>(limit));
   return {static_cast<int>(first), std::max(static_cast<int>(first), static_cast<int>(end))};
-}
-
-void CheckDepth(const cv::Mat& depth, const char* function) {
-  if (!depth.empty() && depth.type() != CV_32FC1) {
-    throw std::invalid_argument(std::string(function) + ": depth image must be CV_32FC1 (metres), got type " +
-                                std::to_string(depth.type()));
-  }
-}
-
-bool Contains(const cv::Rect2f& box, cv::Point2f p) {
-  return box.x <= p.x && p.x < box.x + box.width && box.y <= p.y && p.y < box.y + box.height;
 }
 
 // Whether pixel (x, y), inside the region's box, is dropped by it.
@@ -53,7 +40,7 @@ bool Dropped(const ExclusionRegion& region, const cv::Mat& depth, int x, int y) 
 
 std::optional<DepthCluster> ForegroundDepth(const cv::Mat& depth, const cv::Rect2f& box,
                                             const core::HoidPlusOptions& options) {
-  CheckDepth(depth, "ForegroundDepth");
+  CheckDepthImage(depth, "ForegroundDepth");
   if (depth.empty() || !(box.width > 0.0F) || !(box.height > 0.0F)) return std::nullopt;
   const auto [x0, x1] = PixelsInside(box.x, box.x + box.width, depth.cols);
   const auto [y0, y1] = PixelsInside(box.y, box.y + box.height, depth.rows);
@@ -67,6 +54,7 @@ std::optional<DepthCluster> ForegroundDepth(const cv::Mat& depth, const cv::Rect
   struct Sample {
     float depth;
     float centre_weight;
+    int bin;  // in the histogram below
   };
   std::vector<Sample> samples;
   samples.reserve(kTargetSamples + 2 * static_cast<std::size_t>(std::sqrt(kTargetSamples)) + 1);
@@ -76,7 +64,7 @@ std::optional<DepthCluster> ForegroundDepth(const cv::Mat& depth, const cv::Rect
     for (int x = x0 + stride / 2; x < x1; x += stride) {
       if (!IsValidDepth(row[x])) continue;
       const float wx = 1.0F - std::min(1.0F, std::abs(static_cast<float>(x) - cx) / (box.width * 0.5F));
-      samples.push_back({row[x], wx * wy});
+      samples.push_back({row[x], wx * wy, 0});  // binned below
     }
   }
   if (samples.size() < kMinSamples) return std::nullopt;
@@ -90,14 +78,15 @@ std::optional<DepthCluster> ForegroundDepth(const cv::Mat& depth, const cv::Rect
   };
   const auto bin_edge = [&](int bin) { return static_cast<float>(std::exp(std::log(kMinDepth) + log_step * bin)); };
   int lowest = std::numeric_limits<int>::max(), highest = std::numeric_limits<int>::min();
-  for (const Sample& s : samples) {
-    lowest = std::min(lowest, bin_of(s.depth));
-    highest = std::max(highest, bin_of(s.depth));
+  for (Sample& s : samples) {
+    s.bin = bin_of(s.depth);
+    lowest = std::min(lowest, s.bin);
+    highest = std::max(highest, s.bin);
   }
   const auto bins = static_cast<std::size_t>(highest - lowest + 1) + 2;  // a zero bin on each side
   std::vector<double> count(bins, 0.0), centre(bins, 0.0);
   for (const Sample& s : samples) {
-    const auto b = static_cast<std::size_t>(bin_of(s.depth) - lowest + 1);
+    const auto b = static_cast<std::size_t>(s.bin - lowest + 1);
     count[b] += 1.0;
     centre[b] += s.centre_weight;
   }
@@ -158,14 +147,14 @@ std::optional<DepthCluster> ForegroundDepth(const cv::Mat& depth, const cv::Rect
 
 void MarkKeypointsBehindForeground(std::span<const cv::KeyPoint> keypoints, const cv::Mat& depth,
                                    std::span<const ExclusionRegion> regions, std::vector<std::uint8_t>& keep) {
-  CheckDepth(depth, "MarkKeypointsBehindForeground");
+  CheckDepthImage(depth, "MarkKeypointsBehindForeground");
   keep.assign(keypoints.size(), 1);
   for (std::size_t i = 0; i < keypoints.size(); ++i) {
     const cv::Point2f p = keypoints[i].pt;
     const int x = static_cast<int>(std::lround(p.x));
     const int y = static_cast<int>(std::lround(p.y));
     for (const ExclusionRegion& region : regions) {
-      if (Contains(region.box, p) && Dropped(region, depth, x, y)) {
+      if (region.box.contains(p) && Dropped(region, depth, x, y)) {
         keep[i] = 0;
         break;
       }
@@ -174,7 +163,7 @@ void MarkKeypointsBehindForeground(std::span<const cv::KeyPoint> keypoints, cons
 }
 
 cv::Mat PaintExclusionRegions(std::span<const ExclusionRegion> regions, const cv::Mat& depth, cv::Size size) {
-  CheckDepth(depth, "PaintExclusionRegions");
+  CheckDepthImage(depth, "PaintExclusionRegions");
   if (!depth.empty() && depth.size() != size) throw std::invalid_argument("PaintExclusionRegions: depth size differs");
   cv::Mat mask(size, CV_8UC1, cv::Scalar(0));
   for (const ExclusionRegion& region : regions) {

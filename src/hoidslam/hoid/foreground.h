@@ -14,6 +14,7 @@
 #include <opencv2/core/types.hpp>
 
 #include "hoidslam/core/options.h"
+#include "hoidslam/hoid/filter.h"
 
 namespace hoidslam::hoid {
 

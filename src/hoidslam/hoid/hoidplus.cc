@@ -11,6 +11,7 @@ namespace hoidslam::hoid {
 namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
+const cv::Mat kNoDepth;  // depth refinement off: no foreground is looked for
 // Keypoint matches that carry a missed box: ORB's usual "good match" distance, a ratio test, and enough of them
 // for a median to mean something.
 constexpr int kMaxMatchDistance = 64;
@@ -18,18 +19,12 @@ constexpr float kMatchRatio = 0.8F;
 constexpr std::size_t kMinCarryMatches = 5;
 constexpr std::size_t kMaxCarryKeypoints = 150;
 
-cv::Point2f Centre(const cv::Rect2f& box) { return {box.x + box.width * 0.5F, box.y + box.height * 0.5F}; }
-
 float IoU(const cv::Rect2f& a, const cv::Rect2f& b) {
   const float w = std::min(a.x + a.width, b.x + b.width) - std::max(a.x, b.x);
   const float h = std::min(a.y + a.height, b.y + b.height) - std::max(a.y, b.y);
   if (!(w > 0.0F) || !(h > 0.0F)) return 0.0F;
   const float overlap = w * h;
   return overlap / (a.area() + b.area() - overlap);
-}
-
-bool Contains(const cv::Rect2f& box, cv::Point2f p) {
-  return box.x <= p.x && p.x < box.x + box.width && box.y <= p.y && p.y < box.y + box.height;
 }
 
 int Hamming(const std::uint8_t* a, const std::uint8_t* b, int bytes) {
@@ -96,10 +91,7 @@ HoidPlusFilter::Track* HoidPlusFilter::FindTrack(std::uint64_t id) {
 void HoidPlusFilter::Filter(double timestamp, const cv::Mat& depth, std::span<const core::Detection> detections,
                             std::span<const cv::KeyPoint> keypoints, const cv::Mat& descriptors, JudgedBoxes& boxes,
                             std::vector<std::uint8_t>& keep) {
-  if (!depth.empty() && depth.type() != CV_32FC1) {
-    throw std::invalid_argument("HoidPlusFilter: depth image must be CV_32FC1 (metres), got type " +
-                                std::to_string(depth.type()));
-  }
+  CheckDepthImage(depth, "HoidPlusFilter");
   if (!descriptors.empty() && descriptors.rows != static_cast<int>(keypoints.size())) {
     throw std::invalid_argument("HoidPlusFilter: " + std::to_string(descriptors.rows) + " descriptors for " +
                                 std::to_string(keypoints.size()) + " keypoints");
@@ -115,23 +107,23 @@ void HoidPlusFilter::Filter(double timestamp, const cv::Mat& depth, std::span<co
   }
   ClassifyDetections(boxes.detections, options_, {}, boxes.decisions);  // the 2D rule
   const bool use_depth = plus.depth && !depth.empty();
+  const cv::Mat& refining_depth = use_depth ? depth : kNoDepth;
   if (use_depth) ConfirmByDepth(depth, boxes);
-  if (plus.memory) ApplyMemory(timestamp, depth, boxes);
+  if (plus.memory) ApplyMemory(timestamp, depth, refining_depth, boxes);
 
   std::vector<ExclusionRegion> regions;
   for (std::size_t i = 0; i < boxes.detections.size(); ++i) {
     if (!boxes.decisions[i].dynamic) continue;
     BoxContext& context = boxes.context[i];
-    if (use_depth && !context.foreground) context.foreground = ForegroundDepth(depth, boxes.detections[i].box, plus);
     const cv::Rect2f& box = boxes.detections[i].box;
-    if (use_depth && context.foreground) {
-      context.region = {.box = GrowBox(box, plus.box_margin), .cut = context.foreground->cut, .edge_margin = plus.edge_margin};
+    if (const std::optional<DepthCluster>& foreground = Foreground(refining_depth, boxes, i)) {
+      context.region = {.box = GrowBox(box, plus.box_margin), .cut = foreground->cut, .edge_margin = plus.edge_margin};
     } else {
       context.region = {.box = box, .cut = kInf, .edge_margin = 0};
     }
     regions.push_back(context.region);
   }
-  MarkKeypointsBehindForeground(keypoints, use_depth ? depth : cv::Mat(), regions, keep);
+  MarkKeypointsBehindForeground(keypoints, refining_depth, regions, keep);
 
   last_points_.resize(keypoints.size());
   for (std::size_t i = 0; i < keypoints.size(); ++i) last_points_[i] = keypoints[i].pt;
@@ -185,7 +177,7 @@ void HoidPlusFilter::Associate(double timestamp, std::span<const core::Detection
       Track& track = tracks_[static_cast<std::size_t>(track_of[d])];
       const double dt = timestamp - track.last_updated;
       if (dt > 0.0) {
-        const cv::Point2f shift = Centre(detection.box) - Centre(track.box);
+        const cv::Point2f shift = BoxCentre(detection.box) - BoxCentre(track.box);
         track.velocity = 0.5F * track.velocity + 0.5F * shift * static_cast<float>(1.0 / dt);
       }
       track.box = detection.box;
@@ -230,14 +222,14 @@ std::pair<cv::Rect2f, Carry> HoidPlusFilter::CarryBox(const Track& track, double
     for (const bool dropped_only : {true, false}) {
       previous.clear();
       for (std::size_t i = 0; i < last_points_.size() && previous.size() < kMaxCarryKeypoints; ++i) {
-        if (Contains(track.box, last_points_[i]) && (!dropped_only || last_keep_[i] == 0)) previous.push_back(i);
+        if (track.box.contains(last_points_[i]) && (!dropped_only || last_keep_[i] == 0)) previous.push_back(i);
       }
       if (previous.size() >= kMinCarryMatches) break;
     }
     const cv::Rect2f window = GrowBox(track.box, 0.5);
     std::vector<std::size_t> current;
     for (std::size_t i = 0; i < keypoints.size(); ++i) {
-      if (Contains(window, keypoints[i].pt)) current.push_back(i);
+      if (window.contains(keypoints[i].pt)) current.push_back(i);
     }
     std::vector<float> dx, dy;
     for (const std::size_t p : previous) {
@@ -272,18 +264,20 @@ std::pair<cv::Rect2f, Carry> HoidPlusFilter::CarryBox(const Track& track, double
   return {moved, Carry::kVelocity};
 }
 
+const std::optional<DepthCluster>& HoidPlusFilter::Foreground(const cv::Mat& depth, JudgedBoxes& boxes,
+                                                              std::size_t i) const {
+  std::optional<DepthCluster>& foreground = boxes.context[i].foreground;
+  if (!foreground && !depth.empty()) foreground = ForegroundDepth(depth, boxes.detections[i].box, options_.plus);
+  return foreground;
+}
+
 void HoidPlusFilter::ConfirmByDepth(const cv::Mat& depth, JudgedBoxes& boxes) const {
-  const auto foreground = [&](std::size_t i) -> const std::optional<DepthCluster>& {
-    BoxContext& context = boxes.context[i];
-    if (!context.foreground) context.foreground = ForegroundDepth(depth, boxes.detections[i].box, options_.plus);
-    return context.foreground;
-  };
   for (std::size_t i = 0; i < boxes.detections.size(); ++i) {
     Decision& decision = boxes.decisions[i];
     if (decision.reason != Reason::kInteraction) continue;
     const auto person = static_cast<std::size_t>(decision.person_index);
-    const std::optional<DepthCluster>& object_depth = foreground(i);
-    const std::optional<DepthCluster>& person_depth = foreground(person);
+    const std::optional<DepthCluster>& object_depth = Foreground(depth, boxes, i);
+    const std::optional<DepthCluster>& person_depth = Foreground(depth, boxes, person);
     if (!object_depth || !person_depth) {
       decision.reason = Reason::kDepthUnavailable;  // the 2D verdict stands: dynamic
       continue;
@@ -302,7 +296,8 @@ void HoidPlusFilter::ConfirmByDepth(const cv::Mat& depth, JudgedBoxes& boxes) co
   }
 }
 
-void HoidPlusFilter::ApplyMemory(double timestamp, const cv::Mat& depth, JudgedBoxes& boxes) {
+void HoidPlusFilter::ApplyMemory(double timestamp, const cv::Mat& depth, const cv::Mat& refining_depth,
+                                 JudgedBoxes& boxes) {
   for (std::size_t i = 0; i < boxes.detections.size(); ++i) {
     BoxContext& context = boxes.context[i];
     Track* track = FindTrack(context.track);
@@ -333,11 +328,9 @@ void HoidPlusFilter::ApplyMemory(double timestamp, const cv::Mat& depth, JudgedB
     // Where the object stands, once the frame's pose is known; not while a person holds or hides it, when its box
     // shows the person as much as the object.
     if (handled_now) continue;
-    const cv::Point2f centre = Centre(boxes.detections[i].box);
-    if (!context.foreground && options_.plus.depth && !depth.empty()) {
-      context.foreground = ForegroundDepth(depth, boxes.detections[i].box, options_.plus);
-    }
-    const float z = context.foreground ? context.foreground->median : SampleDepth(depth, centre, options_.sample_box_size);
+    const cv::Point2f centre = BoxCentre(boxes.detections[i].box);
+    const std::optional<DepthCluster>& foreground = Foreground(refining_depth, boxes, i);
+    const float z = foreground ? foreground->median : SampleDepth(depth, centre, options_.sample_box_size);
     if (z > 0.0F && std::isfinite(z)) track->pending_position = camera_.Unproject(centre.x, centre.y, z);
   }
 }

@@ -105,10 +105,13 @@ class HoidPlusFilter {
   // Where a missed track's box is now: moved by its dropped keypoints' motion from the last frame, else by velocity.
   std::pair<cv::Rect2f, Carry> CarryBox(const Track& track, double dt, std::span<const cv::KeyPoint> keypoints,
                                         const cv::Mat& descriptors) const;
+  // Box i's foreground, found once a frame and kept in its context; none when `depth` is empty.
+  const std::optional<DepthCluster>& Foreground(const cv::Mat& depth, JudgedBoxes& boxes, std::size_t i) const;
   // The object–person depth test on the 2D interactions, with the foregrounds in context.
   void ConfirmByDepth(const cv::Mat& depth, JudgedBoxes& boxes) const;
-  // The verdicts memory changes: missed persons and handled objects.
-  void ApplyMemory(double timestamp, const cv::Mat& depth, JudgedBoxes& boxes);
+  // The verdicts memory changes: missed persons and handled objects. `refining_depth` is `depth` when depth
+  // refinement is on (objects are then placed at their foreground), else empty (placed by the centre patch).
+  void ApplyMemory(double timestamp, const cv::Mat& depth, const cv::Mat& refining_depth, JudgedBoxes& boxes);
   bool SeenStill(const Track& track, double timestamp) const;
   Track* FindTrack(std::uint64_t id);
 

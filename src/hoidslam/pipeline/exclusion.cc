@@ -3,7 +3,6 @@
 #include <cmath>
 
 #include <fmt/format.h>
-#include <fmt/ranges.h>
 #include <opencv2/imgcodecs.hpp>
 
 #include "hoidslam/core/error.h"
@@ -18,11 +17,7 @@ std::string ExclusionOptions::ModeName() const {
   if (hoid.mode != core::FilterMode::kHoidPlus || (plus.depth && plus.memory && plus.safety_net)) {
     return std::string(core::ToString(hoid.mode));
   }
-  std::vector<std::string_view> parts;
-  if (plus.depth) parts.push_back("depth");
-  if (plus.memory) parts.push_back("memory");
-  if (plus.safety_net) parts.push_back("net");
-  return fmt::format("{}{}", core::kHoidPlusPartsPrefix, fmt::join(parts, "+"));
+  return fmt::format("{}{}", core::kHoidPlusPartsPrefix, plus.Parts());
 }
 
 void SetFilterMode(std::string_view text, ExclusionOptions& options, const std::string& parameter) {

@@ -340,7 +340,6 @@ void Tracker::FindMovingPoints(const Frame& frame, const TrackResult& result) {
   if (options_.moving_point_outliers == 0) return;
   // Only a pose most matches agree with can accuse a point: on a weak frame the misfits may be the pose's fault.
   if (result.inliers < 2 * options_.min_inliers || 2 * result.inliers < result.matched) return;
-  const RgbdCamera& camera = frame.keypoints->sensor().camera;
   for (int i = 0; i < frame.size(); ++i) {
     MapPoint* p = frame.map_points[static_cast<std::size_t>(i)];
     if (p == nullptr || p->bad()) continue;
@@ -349,12 +348,10 @@ void Tracker::FindMovingPoints(const Frame& frame, const TrackResult& result) {
     // its prediction, so a moving point is either found nearly in place (and within the pose optimiser's bound)
     // or not at all; a wrong match to a similar corner nearby misfits again and again on a static point. Depth is
     // measured, not searched.
-    const KeypointMeasurement m = frame.keypoints->Measurement(i);
-    if (!m.has_depth) continue;
+    if (!frame.keypoints->has_depth(i)) continue;
     const Eigen::Vector3d p_c = frame.T_cw * p->position();
     if (!(p_c.z() > 0.0)) continue;
-    const double depth = camera.bf / (m.uv.x() - m.ur);
-    const bool misfit = std::abs(depth - p_c.z()) > options_.moving_point_depth * p_c.z();
+    const bool misfit = std::abs(frame.keypoints->depth(i) - p_c.z()) > options_.moving_point_depth * p_c.z();
     if (p->RecordOutlier(misfit) >= options_.moving_point_outliers) moving_points_.push_back(p);
   }
 }
