@@ -151,6 +151,12 @@ void AddBenchCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_flag("--deterministic", args->options.deterministic,
                     "Runs with local mapping in step with tracking: the same numbers on every run and machine");
+  command->add_flag("--realtime", args->options.realtime,
+                    "Runs in the real-time mode: the detector in its own thread (docs/realtime.md)");
+  command->add_flag("--pace", args->options.pace, "Runs paced at the recorded rate, as from a live camera");
+  command->add_option("--detector-latency", args->options.detector_latency_ms,
+                      "Runs with every detection taking at least this many ms (a simulated latency)")
+      ->check(CLI::Range(0.0, 60000.0));
   command->add_option("--model", args->options.model,
                       "ONNX detector for sequence folders without a detections.jsonl");
   command->add_option("--settings", args->settings,

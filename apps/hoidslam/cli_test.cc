@@ -293,6 +293,48 @@ TEST(CliRun, RealTumFramesWithTheOnnxDetector) {
             Summary(scratch / "hoid3d")["keypoints_dropped"].get<int>());
 }
 
+TEST(CliRun, RealTimePacedRunLogsHowOldTheDetectionsWere) {
+  const testing::TempDir scratch;
+  const fs::path sequence = Render(scratch, "walking_xyz", 60, 1);  // 2 s at 30 Hz
+  const fs::path out = scratch / "run";
+  const RunResult run = RunHoidslam(scratch, {"run", sequence.string(), "--realtime", "--pace", "--detector-latency",
+                                              "50", "--out", out.string()});
+  ASSERT_EQ(run.exit_status, 0) << run.err;
+  EXPECT_THAT(run.out, HasSubstr("frames dropped"));
+  EXPECT_THAT(run.out, HasSubstr("detections: median age"));
+  const nlohmann::json summary = Summary(out);
+  EXPECT_TRUE(summary["realtime"].get<bool>());
+  EXPECT_TRUE(summary["paced"].get<bool>());
+  EXPECT_EQ(summary["frames"].get<int>() + summary["dropped"].get<int>(), 60);
+  EXPECT_GE(summary["detections"]["median_age_frames"].get<double>(), 1.0);  // 50 ms is more than a frame
+  EXPECT_GE(summary["detections"]["median_detector_ms"].get<double>(), 50.0);
+  EXPECT_THAT(ReadText(out / "frames.jsonl"), HasSubstr(R"("age_ms":)"));
+  // The real-time mode gives up the same output on every run.
+  ExpectOneErrorLine(RunHoidslam(scratch, {"run", sequence.string(), "--realtime", "--deterministic", "--out",
+                                           (scratch / "no").string()}),
+                     "--realtime");
+}
+
+TEST(CliRun, CtrlCAtAnyMomentLeavesCompleteOutputsOrNone) {
+  const testing::TempDir scratch;
+  const fs::path sequence = Render(scratch, "walking_xyz", 90, 1);  // 3 s at 30 Hz
+  for (const int ms : {50, 400, 1500}) {
+    const fs::path out = scratch / ("run" + std::to_string(ms));
+    const RunResult run = RunHoidslam(scratch,
+                                      {"run", sequence.string(), "--realtime", "--pace", "--detector-latency", "40",
+                                       "--out", out.string()},
+                                      std::chrono::milliseconds(ms));
+    EXPECT_EQ(run.exit_status, 130) << ms << " ms: " << run.err;  // 128 + SIGINT, as an interrupted program
+    if (!fs::exists(out)) continue;  // stopped before the run began: nothing written
+    const nlohmann::json summary = Summary(out);
+    EXPECT_TRUE(summary["interrupted"].get<bool>()) << ms;
+    const auto lines = [](const std::string& text) { return std::count(text.begin(), text.end(), '\n'); };
+    EXPECT_EQ(lines(ReadText(out / "frames.jsonl")), summary["frames"].get<int>()) << ms;
+    EXPECT_EQ(lines(ReadText(out / "trajectory.txt")) - 1, summary["tracked"].get<int>()) << ms;  // one header line
+    EXPECT_TRUE(fs::exists(out / "map.ply")) << ms;
+  }
+}
+
 TEST(CliRun, NamesWhatIsMissingAndWritesNothing) {
   const testing::TempDir scratch;
   HOIDSLAM_SHARED_PATH_OR_SKIP(sequence, "data/tum/fr3_walking_xyz_pair");

@@ -4,6 +4,9 @@
 #include <spawn.h>
 #include <sys/wait.h>
 
+#include <csignal>
+#include <thread>
+
 #include <algorithm>
 
 #include <gmock/gmock.h>
@@ -17,7 +20,8 @@ namespace hoidslam::apps {
 
 namespace fs = std::filesystem;
 
-RunResult RunProgram(const testing::TempDir& scratch, const std::vector<std::string>& argv_strings) {
+RunResult RunProgram(const testing::TempDir& scratch, const std::vector<std::string>& argv_strings,
+                     std::optional<std::chrono::milliseconds> interrupt_after) {
   const fs::path out = scratch / "stdout.txt";
   const fs::path err = scratch / "stderr.txt";
   posix_spawn_file_actions_t actions;
@@ -34,6 +38,10 @@ RunResult RunProgram(const testing::TempDir& scratch, const std::vector<std::str
   posix_spawn_file_actions_destroy(&actions);
   RunResult result;
   if (spawned != 0) return result;
+  if (interrupt_after) {
+    std::this_thread::sleep_for(*interrupt_after);
+    kill(pid, SIGINT);
+  }
   int status = 0;
   waitpid(pid, &status, 0);
   result.exit_status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
@@ -42,10 +50,11 @@ RunResult RunProgram(const testing::TempDir& scratch, const std::vector<std::str
   return result;
 }
 
-RunResult RunHoidslam(const testing::TempDir& scratch, const std::vector<std::string>& args) {
+RunResult RunHoidslam(const testing::TempDir& scratch, const std::vector<std::string>& args,
+                      std::optional<std::chrono::milliseconds> interrupt_after) {
   std::vector<std::string> argv = {HOIDSLAM_BINARY};
   argv.insert(argv.end(), args.begin(), args.end());
-  return RunProgram(scratch, argv);
+  return RunProgram(scratch, argv, interrupt_after);
 }
 
 void ExpectOneErrorLine(const RunResult& result, const std::string& names) {

@@ -2,7 +2,9 @@
 // What the end-to-end tests share: running the built hoidslam as a user does, checking its one error line, and
 // rendering short synthetic sequences to run on.
 
+#include <chrono>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,11 +20,14 @@ struct RunResult {
   std::string err;  // stderr
 };
 
-// Runs the built hoidslam with `args`, stdout and stderr captured in files of `scratch`.
-RunResult RunHoidslam(const testing::TempDir& scratch, const std::vector<std::string>& args);
+// Runs the built hoidslam with `args`, stdout and stderr captured in files of `scratch`; with `interrupt_after`,
+// sends it SIGINT (Ctrl-C) that long after the start.
+RunResult RunHoidslam(const testing::TempDir& scratch, const std::vector<std::string>& args,
+                      std::optional<std::chrono::milliseconds> interrupt_after = std::nullopt);
 
 // Runs `argv` the same way, e.g. GNU parallel or a browser; argv[0] is looked up on PATH when it has no '/'.
-RunResult RunProgram(const testing::TempDir& scratch, const std::vector<std::string>& argv);
+RunResult RunProgram(const testing::TempDir& scratch, const std::vector<std::string>& argv,
+                     std::optional<std::chrono::milliseconds> interrupt_after = std::nullopt);
 
 // The one line a user sees for bad input: "error: ..." and nothing else on stderr, exit status 1.
 void ExpectOneErrorLine(const RunResult& result, const std::string& names);

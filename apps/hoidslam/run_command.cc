@@ -40,6 +40,9 @@ struct RunArgs {
   std::string out;
   std::size_t frames = 0;
   bool deterministic = false;
+  bool realtime = false;
+  bool pace = false;
+  double detector_latency_ms = 0.0;
   bool force = false;
 };
 
@@ -62,13 +65,32 @@ nlohmann::json ExclusionQualityJson(const std::optional<pipeline::ExclusionCount
           {"static_dropped", counts->static_dropped}};
 }
 
+double Median(std::vector<double> values) {
+  return values.empty() ? 0.0 : eval::ComputeStatistics(values).median;
+}
+
+// How the detector kept pace: null when the run had no detector.
+nlohmann::json DetectionsJson(const pipeline::RunSummary& s) {
+  if (s.detector_ms.empty()) return nullptr;
+  const std::vector<double> frames(s.detection_age_frames.begin(), s.detection_age_frames.end());
+  return {{"median_age_frames", Median(frames)},
+          {"median_age_ms", Median(s.detection_age_ms)},
+          {"median_detector_ms", Median(s.detector_ms)},
+          {"boxes_carried_by_keypoints", s.boxes_carried_by_keypoints},
+          {"boxes_grown", s.boxes_grown}};
+}
+
 nlohmann::json SummaryJson(const pipeline::RunSummary& s, const std::string& sequence, const std::string& mode,
-                           const std::string& detector) {
+                           const std::string& detector, const pipeline::RealTimeOptions& realtime) {
   const auto median = [&](double pipeline::StageTimes::*stage) { return MedianMs(s.times, std::mem_fn(stage)); };
   return {{"sequence", sequence},
           {"filter", mode},
           {"detector", detector},
+          {"realtime", realtime.enabled},
+          {"paced", realtime.pace},
+          {"detector_latency_ms", realtime.detector_latency_ms},
           {"frames", s.frames},
+          {"dropped", s.dropped},
           {"tracked", s.tracked},
           {"lost", s.lost},
           {"before_initialization", s.before_initialization},
@@ -79,6 +101,9 @@ nlohmann::json SummaryJson(const pipeline::RunSummary& s, const std::string& seq
           {"keypoints_dropped", s.keypoints_dropped},
           {"moving_points_erased", s.moving_points},
           {"interrupted", s.interrupted},
+          {"seconds", s.seconds},
+          {"frames_per_second", s.seconds > 0.0 ? static_cast<double>(s.frames) / s.seconds : 0.0},
+          {"detections", DetectionsJson(s)},
           {"exclusion_quality", ExclusionQualityJson(s.exclusion)},
           {"median_ms",
            {{"load", median(&pipeline::StageTimes::load)},
@@ -99,8 +124,11 @@ void RunRun(const RunArgs& args) {
   if (args.depth_threshold) options.exclusion.hoid.depth_threshold = *args.depth_threshold;
   options.snapshots = args.snapshots;
   options.system.deterministic = args.deterministic;
+  options.realtime.enabled = args.realtime;
+  options.realtime.pace = args.pace;
+  options.realtime.detector_latency_ms = args.detector_latency_ms;
   options.max_frames = args.frames;
-  options.system.Check();
+  options.Check();
 
   const io::RgbdSequence sequence =
       OpenSequence(args.sequence, settings ? std::optional(settings->depth_map_factor) : std::nullopt);
@@ -112,7 +140,8 @@ void RunRun(const RunArgs& args) {
   const pipeline::RunSummary summary = pipeline::RunSequence(sequence, *detector, options, out.temporary(),
                                                              [&interrupts] { return interrupts.requested(); });
 
-  nlohmann::json json = SummaryJson(summary, sequence.name(), std::string(options.exclusion.ModeName()), detector->Name());
+  nlohmann::json json =
+      SummaryJson(summary, sequence.name(), options.exclusion.ModeName(), detector->Name(), options.realtime);
   std::optional<eval::Evaluation> evaluation;
   const fs::path groundtruth = sequence.root() / "groundtruth.txt";
   if (!sequence.groundtruth().empty()) {
@@ -139,6 +168,18 @@ void RunRun(const RunArgs& args) {
   fmt::print("{}: {} frames, {} tracked, {} lost, {} before initialisation; {} keyframes, {} map points\n",
              sequence.name(), summary.frames, summary.tracked, summary.lost, summary.before_initialization,
              summary.keyframes, summary.map_points);
+  if (options.realtime.pace) {
+    fmt::print("paced at the recorded rate: {} frames dropped, arriving while the system was busy ({:.1f} %)\n",
+               summary.dropped, 100.0 * summary.dropped / std::max<std::size_t>(1, summary.frames + summary.dropped));
+  }
+  if (const nlohmann::json detections = json["detections"]; !detections.is_null()) {
+    fmt::print("detections: median age {:.0f} frames ({:.1f} ms), detector {:.1f} ms a frame; {} late boxes carried "
+               "by their keypoints, {} grown\n",
+               detections["median_age_frames"].get<double>(), detections["median_age_ms"].get<double>(),
+               detections["median_detector_ms"].get<double>(), summary.boxes_carried_by_keypoints, summary.boxes_grown);
+  }
+  fmt::print("{:.1f} frames per second ({} frames in {:.1f} s)\n", json["frames_per_second"].get<double>(),
+             summary.frames, summary.seconds);
   fmt::print("keypoints: {} extracted, {} dropped by the filter ({:.1f} %)\n", summary.keypoints_extracted,
              summary.keypoints_dropped,
              summary.keypoints_extracted == 0 ? 0.0 : 100.0 * summary.keypoints_dropped / summary.keypoints_extracted);
@@ -197,6 +238,18 @@ void AddRunCommand(CLI::App& app) {
   command->add_option("--frames", args->frames, "Run only the first N frames (0 = all)")->capture_default_str();
   command->add_flag("--deterministic", args->deterministic,
                     "Local mapping in step with tracking: identical output on every run (slower)");
+  command->add_flag("--realtime", args->realtime,
+                    "The detector in its own thread: tracking never waits for it (but for the first frame) and each "
+                    "frame uses the newest detections, carried to it by the motion of their keypoints "
+                    "(docs/realtime.md)");
+  command->add_flag("--pace", args->pace,
+                    "Play the sequence at its recorded rate, as a live camera: frames arriving while the system is "
+                    "busy are dropped and counted");
+  command->add_option("--detector-latency", args->detector_latency_ms,
+                      "Every detection takes at least this many ms: a simulated network latency when replaying a "
+                      "detections file")
+      ->check(CLI::Range(0.0, 60000.0))
+      ->capture_default_str();
   command->add_flag("--force", args->force, "Replace the --out folder when it exists and is not empty");
   command->callback([args] { RunRun(*args); });
 }

@@ -58,6 +58,10 @@ void BenchOptions::Check() const {
   for (const double depth : depth_sweep) {
     if (!(depth > 0.0)) throw core::InputError::ForParameter("--depth-sweep", fmt::format("{} is not > 0", depth));
   }
+  if (realtime && deterministic) {
+    throw core::InputError::ForParameter("--realtime", "cannot go with --deterministic");
+  }
+  if (!(detector_latency_ms >= 0.0)) throw core::InputError::ForParameter("--detector-latency", "must be >= 0 ms");
   if (synth_frame_step < 1) throw core::InputError::ForParameter("--synth-frame-step", "must be at least 1");
   if (!(timeout_seconds >= 0.0)) throw core::InputError::ForParameter("--timeout", "must be >= 0 seconds");
   if (!model.empty() && !fs::is_regular_file(model)) {
@@ -92,6 +96,11 @@ std::vector<std::string> Plan::RunCommand(const RunSpec& spec) const {
   if (variant.depth_threshold) command.insert(command.end(), {"--depth-threshold", Number(*variant.depth_threshold)});
   if (options.frames > 0) command.insert(command.end(), {"--frames", std::to_string(options.frames)});
   if (options.deterministic) command.push_back("--deterministic");
+  if (options.realtime) command.push_back("--realtime");
+  if (options.pace) command.push_back("--pace");
+  if (options.detector_latency_ms > 0) {
+    command.insert(command.end(), {"--detector-latency", Number(options.detector_latency_ms)});
+  }
   const bool has_detections = fs::exists(sequence.path / "detections.jsonl") || !sequence.scenario.empty();
   if (!options.model.empty() && !has_detections && variant.mode != "none" && variant.mode != "oracle") {
     command.insert(command.end(), {"--model", options.model.string()});
@@ -222,6 +231,9 @@ nlohmann::json PlanToJson(const Plan& plan) {
             {"synth_frames", o.synth_frames},
             {"synth_frame_step", o.synth_frame_step},
             {"deterministic", o.deterministic},
+            {"realtime", o.realtime},
+            {"pace", o.pace},
+            {"detector_latency_ms", o.detector_latency_ms},
             {"model", o.model.string()},
             {"snapshots", o.snapshots},
             {"timeout_seconds", o.timeout_seconds}}},
@@ -243,6 +255,10 @@ Plan PlanFromJson(const nlohmann::json& json, const fs::path& file) {
     plan.options.synth_frames = o.at("synth_frames").get<std::size_t>();
     plan.options.synth_frame_step = o.at("synth_frame_step").get<int>();
     plan.options.deterministic = o.at("deterministic").get<bool>();
+    // Benches planned before the real-time mode existed ran synchronously.
+    plan.options.realtime = o.value("realtime", false);
+    plan.options.pace = o.value("pace", false);
+    plan.options.detector_latency_ms = o.value("detector_latency_ms", 0.0);
     plan.options.model = o.at("model").get<std::string>();
     plan.options.snapshots = o.at("snapshots").get<std::size_t>();
     plan.options.timeout_seconds = o.at("timeout_seconds").get<double>();

@@ -43,6 +43,9 @@ struct BenchOptions {
   std::size_t synth_frames = 0;   // `synth --frames` for rendered scenarios (0 = all)
   int synth_frame_step = 1;       // `synth --frame-step`
   bool deterministic = false;     // `run --deterministic`: identical output on every run
+  bool realtime = false;          // `run --realtime`: the detector in its own thread
+  bool pace = false;              // `run --pace`: frames at their recorded rate, as from a live camera
+  double detector_latency_ms = 0;  // `run --detector-latency`: a simulated detector latency
   std::filesystem::path model;    // ONNX model for sequences without a detections.jsonl
   std::size_t snapshots = 6;      // annotated frames in the first run of each mode and sequence
   double timeout_seconds = 3600;  // a run taking longer is stopped and recorded as failed (0 = no limit)

@@ -143,6 +143,13 @@ TEST(Plan, RunCommandCarriesEverythingTheRunNeeds) {
   EXPECT_THAT(swept, ::testing::Contains("0.3"));
   EXPECT_EQ(swept.back(), "0");  // snapshots only in the first run
   EXPECT_TRUE(plan.PrepareCommand(plan.sequences[0]).empty());
+
+  options.deterministic = false;
+  options.realtime = options.pace = true;
+  options.detector_latency_ms = 40;
+  const std::vector<std::string> live = MakePlan(options, {TumSequence("fr3")}, "/bin/hoidslam", "/b").RunCommand(plan.runs[0]);
+  EXPECT_THAT(std::vector(live.begin() + 10, live.end()),
+              ElementsAre("--frames", "100", "--realtime", "--pace", "--detector-latency", "40", "--snapshots", "6"));
 }
 
 TEST(Plan, PrepareCommandRendersTheScenario) {
@@ -159,6 +166,8 @@ TEST(Plan, JsonRoundTripKeepsEveryRunAndCommand) {
   BenchOptions options;
   options.runs = 3;
   options.model = "";
+  options.realtime = true;
+  options.detector_latency_ms = 80;
   BenchSequence broken = TumSequence("broken");
   broken.problem = "gone";
   const Plan plan = MakePlan(options, {SyntheticSequence("walking_xyz"), TumSequence("fr3"), broken}, "/bin/hoidslam", "/b");

@@ -99,6 +99,11 @@ std::vector<std::size_t> PlainVariants(const Plan& plan) {
 std::string RunsNote(const Plan& plan, std::size_t runs) {
   std::string note = fmt::format("Median of {} run{} per cell", runs, runs == 1 ? "" : "s");
   if (plan.options.deterministic) note += " (deterministic mode)";
+  if (plan.options.realtime) note += " (real-time mode)";
+  if (plan.options.pace) note += " (paced at the recorded rate)";
+  if (plan.options.detector_latency_ms > 0) {
+    note += fmt::format(" (detector latency {} ms)", plan.options.detector_latency_ms);
+  }
   note += "; (k/n): only k of n runs finished; failed: no run finished; no pose: the runs finished without "
           "tracking a frame (the map never started); –: not applicable.";
   for (const BenchSequence& s : plan.sequences) {

@@ -1,9 +1,7 @@
 #include "hoidslam/hoid/hoidplus.h"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <stdexcept>
 
@@ -12,12 +10,9 @@ namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 const cv::Mat kNoDepth;  // depth refinement off: no foreground is looked for
-// Keypoint matches that carry a missed box: ORB's usual "good match" distance, a ratio test, and enough of them
-// for a median to mean something.
-constexpr int kMaxMatchDistance = 64;
-constexpr float kMatchRatio = 0.8F;
-constexpr std::size_t kMinCarryMatches = 5;
-constexpr std::size_t kMaxCarryKeypoints = 150;
+// A missed box is carried by its dropped keypoints when it has this many (a median needs a few), else by all
+// keypoints inside it.
+constexpr std::size_t kMinCarryKeypoints = 5;
 
 float IoU(const cv::Rect2f& a, const cv::Rect2f& b) {
   const float w = std::min(a.x + a.width, b.x + b.width) - std::max(a.x, b.x);
@@ -27,39 +22,11 @@ float IoU(const cv::Rect2f& a, const cv::Rect2f& b) {
   return overlap / (a.area() + b.area() - overlap);
 }
 
-int Hamming(const std::uint8_t* a, const std::uint8_t* b, int bytes) {
-  int distance = 0;
-  int i = 0;
-  for (; i + 8 <= bytes; i += 8) {
-    std::uint64_t x = 0, y = 0;
-    std::memcpy(&x, a + i, 8);
-    std::memcpy(&y, b + i, 8);
-    distance += std::popcount(x ^ y);
-  }
-  for (; i < bytes; ++i) distance += std::popcount(static_cast<unsigned>(a[i] ^ b[i]));
-  return distance;
-}
-
-float Median(std::vector<float>& values) {
-  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), mid, values.end());
-  return *mid;
-}
-
 bool IsInteraction(Reason reason) {
   return reason == Reason::kInteraction || reason == Reason::kDepthConfirmed || reason == Reason::kDepthUnavailable;
 }
 
 }  // namespace
-
-std::string_view ToString(Carry carry) {
-  switch (carry) {
-    case Carry::kNone: return "none";
-    case Carry::kKeypoints: return "keypoints";
-    case Carry::kVelocity: return "velocity";
-  }
-  return "unknown";
-}
 
 void HoidPlusFilter::Track::Vote(const std::string& vote) {
   auto it = std::find_if(label_votes.begin(), label_votes.end(), [&](const auto& v) { return v.first == vote; });
@@ -215,47 +182,19 @@ void HoidPlusFilter::Associate(double timestamp, std::span<const core::Detection
 std::pair<cv::Rect2f, Carry> HoidPlusFilter::CarryBox(const Track& track, double dt,
                                                       std::span<const cv::KeyPoint> keypoints,
                                                       const cv::Mat& descriptors) const {
-  if (has_last_frame_ && !descriptors.empty() && !last_descriptors_.empty() &&
-      descriptors.cols == last_descriptors_.cols && descriptors.type() == CV_8U) {
+  if (has_last_frame_) {
     // The track's own keypoints of the last frame: the dropped ones inside its box, or all inside when few dropped.
     std::vector<std::size_t> previous;
     for (const bool dropped_only : {true, false}) {
       previous.clear();
-      for (std::size_t i = 0; i < last_points_.size() && previous.size() < kMaxCarryKeypoints; ++i) {
+      for (std::size_t i = 0; i < last_points_.size() && previous.size() < kMaxMotionKeypoints; ++i) {
         if (track.box.contains(last_points_[i]) && (!dropped_only || last_keep_[i] == 0)) previous.push_back(i);
       }
-      if (previous.size() >= kMinCarryMatches) break;
+      if (previous.size() >= kMinCarryKeypoints) break;
     }
-    const cv::Rect2f window = GrowBox(track.box, 0.5);
-    std::vector<std::size_t> current;
-    for (std::size_t i = 0; i < keypoints.size(); ++i) {
-      if (window.contains(keypoints[i].pt)) current.push_back(i);
-    }
-    std::vector<float> dx, dy;
-    for (const std::size_t p : previous) {
-      const std::uint8_t* a = last_descriptors_.ptr<std::uint8_t>(static_cast<int>(p));
-      int best = std::numeric_limits<int>::max(), second = best;
-      std::size_t best_index = 0;
-      for (const std::size_t c : current) {
-        const int distance = Hamming(a, descriptors.ptr<std::uint8_t>(static_cast<int>(c)), descriptors.cols);
-        if (distance < best) {
-          second = best;
-          best = distance;
-          best_index = c;
-        } else if (distance < second) {
-          second = distance;
-        }
-      }
-      if (best <= kMaxMatchDistance && static_cast<float>(best) < kMatchRatio * static_cast<float>(second)) {
-        dx.push_back(keypoints[best_index].pt.x - last_points_[p].x);
-        dy.push_back(keypoints[best_index].pt.y - last_points_[p].y);
-      }
-    }
-    if (dx.size() >= kMinCarryMatches) {
-      cv::Rect2f moved = track.box;
-      moved.x += Median(dx);
-      moved.y += Median(dy);
-      return {moved, Carry::kKeypoints};
+    if (const std::optional<cv::Point2f> motion = MedianKeypointMotion(
+            last_points_, last_descriptors_, previous, keypoints, descriptors, GrowBox(track.box, 0.5))) {
+      return {track.box + *motion, Carry::kKeypoints};
     }
   }
   cv::Rect2f moved = track.box;

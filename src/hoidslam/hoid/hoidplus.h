@@ -30,16 +30,9 @@
 #include "hoidslam/core/pose.h"
 #include "hoidslam/hoid/filter.h"
 #include "hoidslam/hoid/foreground.h"
+#include "hoidslam/hoid/keypoint_motion.h"
 
 namespace hoidslam::hoid {
-
-// How a box the detector missed this frame was placed.
-enum class Carry : std::uint8_t {
-  kNone,       // detected this frame
-  kKeypoints,  // moved by the median motion of its keypoints matched from the last frame
-  kVelocity,   // too few keypoint matches: moved by the box's recent velocity
-};
-std::string_view ToString(Carry carry);
 
 // What hoidplus knows about a judged box besides the verdict.
 struct BoxContext {

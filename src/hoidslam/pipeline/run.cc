@@ -16,6 +16,8 @@
 #include "hoidslam/io/trajectory_file.h"
 #include "hoidslam/hoid/explain.h"
 #include "hoidslam/report/annotate.h"
+#include "hoidslam/pipeline/detector_thread.h"
+#include "hoidslam/pipeline/live_pacing.h"
 
 namespace hoidslam::pipeline {
 namespace {
@@ -82,7 +84,86 @@ void WriteSnapshot(const std::filesystem::path& path, const core::RgbdFrame& fra
   io::WriteImageAtomically(path, image);
 }
 
+// The detections each frame is judged by. Frames go to the detector thread; the synchronous mode waits for each
+// frame's own detections, the real-time mode for the first frame's only and then takes the newest there are. The
+// newest good detections are carried to the frame (hoid/late_detections.h); a frame the detector failed on keeps
+// them. Each frame's age of its detections goes into its log entry and the summary.
+class FrameDetections {
+ public:
+  FrameDetections(detect::Detector& detector, const RunOptions& options)
+      : realtime_(options.realtime.enabled),
+        thread_limit_(realtime_ ? std::optional<OpenCvThreadLimit>(std::in_place) : std::nullopt),
+        thread_(detector, options.realtime.detector_latency_ms),
+        late_(cv::Size(options.system.camera.width, options.system.camera.height), options.realtime.late_detections) {}
+
+  void Submit(std::size_t index, const core::RgbdFrame& frame) { thread_.Submit(index, frame.timestamp, frame.rgb); }
+
+  // The boxes to judge frame `index` (submitted) by, and what the log and summary say of them.
+  std::vector<core::Detection> For(std::size_t index, const core::RgbdFrame& frame,
+                                   const slam::ExtractedFeatures& features, nlohmann::json& entry,
+                                   RunSummary& summary) {
+    // Without detections yet, the real-time mode waits too, so that the map does not start on the people in view.
+    std::optional<DetectorResult> result =
+        realtime_ && newest_ ? thread_.TakeNewest() : std::optional(thread_.WaitForNext());
+    if (result && result->error) {
+      // One bad frame must not end a run.
+      spdlog::warn("frame {} ({:.6f}): detector failed, using the newest detections there are: {}", result->frame,
+                   result->timestamp, *result->error);
+      ++summary.detector_failures;
+      entry["detector_error"] = *result->error;
+    } else if (result) {
+      newest_ = std::move(*result);
+    }
+    late_.Remember(index, features.keypoints, features.descriptors);
+    std::vector<core::Detection> boxes;
+    if (!newest_) return boxes;
+    std::size_t by_keypoints = 0, grown = 0;
+    for (hoid::CarriedDetection& carried : late_.Carry(newest_->frame, newest_->detections, index)) {
+      by_keypoints += carried.carry == hoid::Carry::kKeypoints ? 1 : 0;
+      grown += carried.carry == hoid::Carry::kGrown ? 1 : 0;
+      boxes.push_back(std::move(carried.detection));
+    }
+    const double age_ms = (frame.timestamp - newest_->timestamp) * 1000.0;
+    summary.detection_age_frames.push_back(index - newest_->frame);
+    summary.detection_age_ms.push_back(age_ms);
+    summary.detector_ms.push_back(newest_->milliseconds);
+    summary.boxes_carried_by_keypoints += by_keypoints;
+    summary.boxes_grown += grown;
+    entry["detections"] = {{"frame", newest_->frame},
+                           {"age_frames", index - newest_->frame},
+                           {"age_ms", Round(age_ms, 1)},
+                           {"detector_ms", Round(newest_->milliseconds, 1)},
+                           {"carried_by_keypoints", by_keypoints},
+                           {"grown", grown}};
+    return boxes;
+  }
+
+ private:
+  bool realtime_;
+  std::optional<OpenCvThreadLimit> thread_limit_;  // before the thread: the pool is limited while it runs
+  DetectorThread thread_;
+  hoid::LateDetections late_;
+  std::optional<DetectorResult> newest_;  // the newest good detections
+};
+
 }  // namespace
+
+void RealTimeOptions::Check() const {
+  if (!(detector_latency_ms >= 0.0 && detector_latency_ms <= 60000.0)) {
+    throw core::InputError::ForParameter("--detector-latency",
+                                         fmt::format("must be in [0, 60000] ms, got {}", detector_latency_ms));
+  }
+  late_detections.Check();
+}
+
+void RunOptions::Check() const {
+  system.Check();
+  realtime.Check();
+  if (realtime.enabled && system.deterministic) {
+    throw core::InputError::ForParameter(
+        "--realtime", "cannot go with --deterministic: the age of the detections each frame gets depends on timing");
+  }
+}
 
 RunOptions RunOptions::FromSettings(const io::Settings& settings) {
   RunOptions options;
@@ -109,14 +190,17 @@ std::optional<std::string> DetectOrKeepPrevious(detect::Detector& detector, cons
 
 RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detector, const RunOptions& options,
                        const std::filesystem::path& folder, const std::function<bool()>& stop_requested) {
+  options.Check();
   KeypointExclusion exclusion(options.exclusion, sequence.root(), options.system.camera);
   slam::SystemOptions system_options = options.system;
   if (options.exclusion.SafetyNet()) {
     system_options.tracking.moving_point_outliers = options.exclusion.hoid.plus.moving_point_outliers;
   }
   slam::System system(system_options);
-  spdlog::info("{}: {} frames, filter {}, detector {}{}", sequence.name(), sequence.size(),
-               options.exclusion.ModeName(), detector.Name(), options.system.deterministic ? ", deterministic" : "");
+  const RealTimeOptions& realtime = options.realtime;
+  spdlog::info("{}: {} frames, filter {}, detector {}{}{}{}", sequence.name(), sequence.size(),
+               options.exclusion.ModeName(), detector.Name(), realtime.enabled ? ", real time" : "",
+               realtime.pace ? ", paced" : "", options.system.deterministic ? ", deterministic" : "");
   io::AtomicFile log(folder / "frames.jsonl");
   if (options.snapshots > 0) std::filesystem::create_directories(folder / "snapshots");
 
@@ -125,36 +209,52 @@ RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detec
   summary.times.reserve(total);
   if (exclusion.CanScore()) summary.exclusion.emplace();
   core::ProgressReporter progress("run", total);
-  std::vector<core::Detection> detections;  // kept across frames: a failed frame reuses the last ones
+  std::optional<LivePacing> pacing;
+  if (realtime.pace) {
+    std::vector<double> timestamps = sequence.Timestamps();
+    timestamps.resize(total);
+    pacing.emplace(std::move(timestamps));
+  }
+  // Both modes hand frames to the detector thread: the synchronous one then waits for each frame's detections.
+  std::optional<FrameDetections> detections;
+  if (options.exclusion.NeedsDetections() || options.exclusion.oracle) detections.emplace(detector, options);
   hoid::JudgedBoxes boxes;
   std::vector<std::uint8_t> keep;
-  for (std::size_t index = 0; index < total; ++index) {
+  const core::Stopwatch run_clock;
+  for (std::optional<std::size_t> previous; true;) {
+    const std::optional<std::size_t> next =
+        pacing ? pacing->Next(previous, stop_requested) : std::optional(previous ? *previous + 1 : 0);
     if (stop_requested && stop_requested()) {
       summary.interrupted = true;
       break;
     }
+    if (!next || *next >= total) break;
+    const std::size_t index = *next;
+    const std::size_t dropped_before = pacing ? pacing->dropped() - summary.dropped : 0;
+    summary.dropped += dropped_before;
+    previous = index;
+
     StageTimes times;
     core::Stopwatch clock;
     const core::RgbdFrame frame = sequence.LoadFrame(index);
     times.load = clock.ElapsedMilliseconds();
+    if (detections) detections->Submit(index, frame);
 
     clock.Restart();
     const slam::ExtractedFeatures features = system.Extract(frame.rgb);
     times.extract = clock.ElapsedMilliseconds();
 
     nlohmann::json entry = {{"frame", index}, {"timestamp", frame.timestamp}};
-    if (options.exclusion.NeedsDetections() || options.exclusion.oracle) {
+    if (dropped_before > 0) entry["dropped_before"] = dropped_before;
+    std::vector<core::Detection> frame_detections;
+    if (detections) {
       clock.Restart();
-      // One bad frame must not end a run.
-      if (const std::optional<std::string> error = DetectOrKeepPrevious(detector, frame, index, detections)) {
-        ++summary.detector_failures;
-        entry["detector_error"] = *error;
-      }
+      frame_detections = detections->For(index, frame, features, entry, summary);
       times.detect = clock.ElapsedMilliseconds();
     }
 
     clock.Restart();
-    exclusion.Mark(frame, detections, features.keypoints, features.descriptors, keep, boxes);
+    exclusion.Mark(frame, frame_detections, features.keypoints, features.descriptors, keep, boxes);
     times.filter = clock.ElapsedMilliseconds();
     const auto kept = static_cast<std::size_t>(std::count(keep.begin(), keep.end(), std::uint8_t{1}));
     if (exclusion.CanScore()) {
@@ -204,6 +304,8 @@ RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detec
     log.stream() << entry.dump() << '\n';
     progress.Update(index + 1);
   }
+  summary.seconds = run_clock.ElapsedMilliseconds() / 1000.0;
+  detections.reset();  // the detector thread stops: the detector is the caller's again
 
   system.Finish();
   io::WriteTumTrajectory(folder / "trajectory.txt", system.FrameTrajectory());

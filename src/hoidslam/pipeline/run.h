@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "hoidslam/detect/detector.h"
+#include "hoidslam/hoid/late_detections.h"
 #include "hoidslam/io/rgbd_sequence.h"
 #include "hoidslam/io/settings.h"
 #include "hoidslam/pipeline/exclusion.h"
@@ -30,17 +31,39 @@
 
 namespace hoidslam::pipeline {
 
+// How the detector keeps pace with tracking (docs/realtime.md).
+struct RealTimeOptions {
+  // The detector in its own thread: each frame is judged by the newest detections there are, carried from the
+  // frame the detector saw to this one (hoid/late_detections.h), and tracking never waits for them, but for the
+  // first frame's. Off: every frame waits for its own detections (reproducible, for benchmarks).
+  bool enabled = false;
+  // Frames arrive at their recorded rate, as from a live camera; those that come while the system is busy are
+  // dropped (live_pacing.h). Off: every frame is processed, as fast as it goes.
+  bool pace = false;
+  // Every detection takes at least this long (ms): a simulated network latency, for a detections file.
+  double detector_latency_ms = 0.0;
+  hoid::LateDetectionOptions late_detections;
+
+  // Throws InputError naming the parameter (--detector-latency) when out of range.
+  void Check() const;
+};
+
 struct RunOptions {
   slam::SystemOptions system;
   ExclusionOptions exclusion;
+  RealTimeOptions realtime;
   std::size_t max_frames = 0;  // 0: the whole sequence
   std::size_t snapshots = 6;   // annotated frames written, evenly spread over the run
 
   // The camera, depth, ORB and HOID settings of a settings file; the rest at their defaults.
   static RunOptions FromSettings(const io::Settings& settings);
+  // Throws InputError naming the parameter: the system's and real-time options, and the real-time mode with the
+  // deterministic one (whose point, the same output on every run, the real-time mode gives up).
+  void Check() const;
 };
 
-// Milliseconds per stage of one frame.
+// Milliseconds per stage of one frame. `detect` is what tracking spent on the detections: waiting for the detector
+// (all of its time in the synchronous mode, the first frame's only in the real-time mode) and carrying late boxes.
 struct StageTimes {
   double load = 0, extract = 0, detect = 0, filter = 0, track = 0;
   // What the budget counts as tracking a frame: extraction, filter and tracking (detector excluded).
@@ -58,7 +81,16 @@ struct RunSummary {
   std::size_t keypoints_extracted = 0;
   std::size_t keypoints_dropped = 0;
   std::size_t moving_points = 0;     // map points the safety net erased (hoidplus)
+  std::size_t dropped = 0;           // frames a paced run passed over, arriving while the system was busy
   std::vector<StageTimes> times;     // one per frame
+  // Per frame judged by detections: how many frames and ms (of the recording) the detections were older than the
+  // frame, and how long the detector took on them, waiting included.
+  std::vector<std::size_t> detection_age_frames;
+  std::vector<double> detection_age_ms;
+  std::vector<double> detector_ms;
+  std::size_t boxes_carried_by_keypoints = 0;  // late boxes moved by their keypoints' motion
+  std::size_t boxes_grown = 0;                 // late boxes grown, with too few keypoint matches
+  double seconds = 0.0;              // wall-clock time of the frame loop
   std::optional<ExclusionCounts> exclusion;  // over all frames, when the sequence has ground-truth moving masks
   bool interrupted = false;          // stopped early by the caller; the outputs hold the frames done
 };
@@ -69,8 +101,9 @@ std::optional<std::string> DetectOrKeepPrevious(detect::Detector& detector, cons
                                                 std::size_t index, std::vector<core::Detection>& detections);
 
 // Runs `sequence` and writes the outputs into `folder` (which must exist). `stop_requested` is polled between
-// frames. Throws InputError for unreadable input (naming the file); a detector that fails on one frame is logged
-// and the frame uses the previous frame's detections.
+// frames (and while a paced run waits for the next frame). Throws InputError for unreadable input (naming the
+// file); a detector that fails on one frame is logged, and the frame uses the newest detections there are,
+// carried to it like late ones.
 RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detector, const RunOptions& options,
                        const std::filesystem::path& folder, const std::function<bool()>& stop_requested = {});
 

@@ -163,5 +163,84 @@ TEST(RunSequence, BlackFramesAreLostNotGuessed) {
   }
 }
 
+// The detector in its own thread, slower than tracking: frames are judged by the newest detections, carried.
+TEST(RunSequenceRealTime, JudgesEachFrameByTheNewestDetectionsCarriedToIt) {
+  HOIDSLAM_SHARED_PATH_OR_SKIP(tum_dir, "data/tum");
+  testing::TempDir dir;
+  const fs::path sequence_root = RenderWalking(dir, tum_dir, 40);
+  const io::RgbdSequence sequence = io::RgbdSequence::OpenTum(sequence_root);
+  fs::create_directories(dir / "out");
+  FlakyDetector detector(sequence_root / "detections.jsonl", {3});
+  RunOptions options = Hoid2d();
+  options.system.deterministic = false;
+  options.realtime.enabled = true;
+  options.realtime.detector_latency_ms = 60.0;
+  const RunSummary summary = RunSequence(sequence, detector, options, dir / "out");
+
+  EXPECT_EQ(summary.frames, 40U);
+  EXPECT_EQ(summary.tracked, 40U);
+  EXPECT_EQ(summary.dropped, 0U);  // not paced: every frame is processed
+  ASSERT_EQ(summary.detection_age_frames.size(), 40U);
+  EXPECT_EQ(summary.detection_age_frames[0], 0U);  // the first frame waits for its own
+  const std::vector<nlohmann::json> log = ReadLog(dir / "out" / "frames.jsonl");
+  ASSERT_EQ(log.size(), 40U);
+  std::size_t late = 0;
+  for (const nlohmann::json& entry : log) {
+    const nlohmann::json& detections = entry.at("detections");
+    const auto frame = entry["frame"].get<std::size_t>();
+    const auto of = detections["frame"].get<std::size_t>();
+    ASSERT_LE(of, frame);
+    EXPECT_EQ(detections["age_frames"].get<std::size_t>(), frame - of);
+    EXPECT_GE(detections["detector_ms"].get<double>(), 60.0);
+    if (of < frame) ++late;
+  }
+  EXPECT_GT(late, 20U);  // tracking takes a few ms a frame, the detector 60
+  EXPECT_GT(summary.boxes_carried_by_keypoints, 0U);
+  EXPECT_LE(summary.detector_failures, 1U);  // frame 3's failure is seen only if the detector took frame 3
+  // Carried boxes still cover the people well enough.
+  ASSERT_TRUE(summary.exclusion.has_value());
+  EXPECT_LT(summary.exclusion->Leaked(), 0.2);
+  EXPECT_EQ(io::ReadTumTrajectory(dir / "out" / "trajectory.txt").size(), 40U);
+}
+
+TEST(RunSequenceRealTime, APacedRunDropsTheFramesThatArriveWhileItIsBusy) {
+  HOIDSLAM_SHARED_PATH_OR_SKIP(tum_dir, "data/tum");
+  testing::TempDir dir;
+  const fs::path sequence_root = RenderWalking(dir, tum_dir, 16);  // 16 frames, 0.13 s apart
+  const io::RgbdSequence sequence = io::RgbdSequence::OpenTum(sequence_root);
+  fs::create_directories(dir / "out");
+  detect::FileDetector detector(sequence_root / "detections.jsonl");
+  RunOptions options = Hoid2d();
+  options.system.deterministic = false;
+  options.realtime.enabled = true;
+  options.realtime.pace = true;
+  options.realtime.detector_latency_ms = 400.0;  // the first frame waits for it: three frames come meanwhile
+  const RunSummary summary = RunSequence(sequence, detector, options, dir / "out");
+
+  EXPECT_GE(summary.dropped, 2U);
+  EXPECT_EQ(summary.frames + summary.dropped, 16U);
+  const std::vector<nlohmann::json> log = ReadLog(dir / "out" / "frames.jsonl");
+  ASSERT_EQ(log.size(), summary.frames);
+  std::size_t logged_dropped = 0;
+  for (const nlohmann::json& entry : log) logged_dropped += entry.value("dropped_before", std::size_t{0});
+  EXPECT_EQ(logged_dropped, summary.dropped);
+  EXPECT_EQ(log[1]["frame"].get<std::size_t>(), 1 + log[1]["dropped_before"].get<std::size_t>());
+  EXPECT_EQ(io::ReadTumTrajectory(dir / "out" / "trajectory.txt").size(), summary.tracked);
+}
+
+TEST(RunOptions, TheRealTimeModeCannotBeDeterministic) {
+  RunOptions options = Hoid2d();
+  options.realtime.enabled = true;
+  try {
+    options.Check();
+    FAIL() << "no error";
+  } catch (const core::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--realtime"), std::string::npos);
+  }
+  options.system.deterministic = false;
+  options.realtime.detector_latency_ms = -1;
+  EXPECT_THROW(options.Check(), core::InputError);
+}
+
 }  // namespace
 }  // namespace hoidslam::pipeline
