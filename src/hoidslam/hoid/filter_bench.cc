@@ -1,14 +1,17 @@
 // The HOID filter's whole per-frame work (classify the detections, mark the keypoints to keep) on a realistic
 // office frame: 4 persons and 16 objects, 1000 keypoints over 640×480. Budget (DESIGN.md): <= 20 µs a frame.
+#include <algorithm>
 #include <cstdint>
 #include <random>
 #include <string>
 #include <vector>
 
 #include <benchmark/benchmark.h>
+#include <opencv2/core.hpp>
 
 #include "hoidslam/hoid/filter.h"
 #include "hoidslam/hoid/hoidplus.h"
+#include "hoidslam/hoid/late_detections.h"
 
 namespace hoidslam::hoid {
 namespace {
@@ -146,6 +149,32 @@ BENCHMARK_CAPTURE(BM_FilterFrame, hoid3d, core::FilterMode::kHoid3d)->Unit(bench
 BENCHMARK_CAPTURE(BM_Classify, hoid2d, core::FilterMode::kHoid2d)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_Classify, hoid3d, core::FilterMode::kHoid3d)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_MarkKeypoints)->Unit(benchmark::kMicrosecond);
+
+
+// The real-time mode's carry of late detections: the same frame's 20 boxes, detected three frames back, carried by
+// their keypoints' motion to the frame being tracked (everything moved 9 px right and 3 px down since).
+void BM_CarryLateDetections(benchmark::State& state) {
+  const Frame frame = OfficeFrame();
+  cv::Mat descriptors(static_cast<int>(frame.keypoints.size()), 32, CV_8UC1);
+  cv::randu(descriptors, 0, 256);
+  std::vector<cv::KeyPoint> moved = frame.keypoints;
+  for (cv::KeyPoint& keypoint : moved) keypoint.pt += cv::Point2f(9.0F, 3.0F);
+  LateDetections late(frame.depth.size());
+  late.Remember(0, frame.keypoints, descriptors);
+  late.Remember(1, frame.keypoints, descriptors);
+  late.Remember(2, frame.keypoints, descriptors);
+  late.Remember(3, moved, descriptors);
+  std::size_t by_keypoints = 0;
+  for (auto _ : state) {
+    const std::vector<CarriedDetection> carried = late.Carry(0, frame.detections, 3);
+    by_keypoints = static_cast<std::size_t>(std::count_if(
+        carried.begin(), carried.end(), [](const CarriedDetection& c) { return c.carry == Carry::kKeypoints; }));
+    benchmark::DoNotOptimize(carried.data());
+  }
+  state.counters["carried_by_keypoints"] = static_cast<double>(by_keypoints);
+  state.counters["boxes"] = static_cast<double>(frame.detections.size());
+}
+BENCHMARK(BM_CarryLateDetections)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace hoidslam::hoid

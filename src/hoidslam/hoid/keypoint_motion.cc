@@ -49,7 +49,8 @@ std::optional<cv::Point2f> MedianKeypointMotion(std::span<const cv::Point2f> fro
                                                 const cv::Mat& from_descriptors,
                                                 std::span<const std::size_t> selected,
                                                 std::span<const cv::KeyPoint> to_keypoints,
-                                                const cv::Mat& to_descriptors, const cv::Rect2f& window) {
+                                                const cv::Mat& to_descriptors, const cv::Rect2f& window,
+                                                float max_motion) {
   if (from_descriptors.empty() || to_descriptors.empty() || from_descriptors.cols != to_descriptors.cols ||
       from_descriptors.type() != CV_8U || to_descriptors.type() != CV_8U ||
       static_cast<std::size_t>(from_descriptors.rows) != from_points.size() ||
@@ -60,12 +61,15 @@ std::optional<cv::Point2f> MedianKeypointMotion(std::span<const cv::Point2f> fro
   for (std::size_t i = 0; i < to_keypoints.size(); ++i) {
     if (window.contains(to_keypoints[i].pt)) candidates.push_back(i);
   }
+  const float max_squared = max_motion * max_motion;
   std::vector<float> dx, dy;
   for (const std::size_t p : selected) {
     const std::uint8_t* a = from_descriptors.ptr<std::uint8_t>(static_cast<int>(p));
     int best = std::numeric_limits<int>::max(), second = best;
     std::size_t best_index = 0;
     for (const std::size_t c : candidates) {
+      const cv::Point2f d = to_keypoints[c].pt - from_points[p];
+      if (d.dot(d) > max_squared) continue;
       const int distance = Hamming(a, to_descriptors.ptr<std::uint8_t>(static_cast<int>(c)), to_descriptors.cols);
       if (distance < best) {
         second = best;

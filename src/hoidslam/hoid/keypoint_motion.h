@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <span>
 #include <string_view>
@@ -30,12 +31,14 @@ inline constexpr std::size_t kMaxMotionKeypoints = 150;
 // The median motion (pixels) of the keypoints `selected` of the earlier frame (`from_points`, with one ORB
 // descriptor row each in `from_descriptors`) to the keypoints of the later frame inside `window`: each is matched
 // to its nearest descriptor there when that is a good ORB match (Hamming distance ≤ 64) clearly better than the
-// second nearest (ratio 0.8). nullopt with fewer than five matches, or when the descriptors are missing or differ
-// in width.
+// second nearest (ratio 0.8). Only keypoints within `max_motion` pixels of where a keypoint was are its
+// candidates, which saves most descriptor comparisons when the motion is known to be small. nullopt with fewer
+// than five matches, or when the descriptors are missing or differ in width.
 std::optional<cv::Point2f> MedianKeypointMotion(std::span<const cv::Point2f> from_points,
                                                 const cv::Mat& from_descriptors,
                                                 std::span<const std::size_t> selected,
                                                 std::span<const cv::KeyPoint> to_keypoints,
-                                                const cv::Mat& to_descriptors, const cv::Rect2f& window);
+                                                const cv::Mat& to_descriptors, const cv::Rect2f& window,
+                                                float max_motion = std::numeric_limits<float>::infinity());
 
 }  // namespace hoidslam::hoid

@@ -26,6 +26,10 @@ struct LateDetectionOptions {
   // Keypoint matches for a box are looked for in the box grown by this share on each side, and by
   // grow_per_frame more for every frame of age.
   double search_margin = 0.5;
+  // A keypoint's match is looked for within this many pixels of where it was, plus max_motion_per_frame for
+  // every frame of age: a fast camera turn moves the image by about 15 px a 30 Hz frame.
+  double max_motion = 30.0;
+  double max_motion_per_frame = 15.0;
   std::size_t max_frames = 300;  // frames whose keypoints are kept at most (10 s at 30 Hz); older ones are let go
 
   // Throws core::InputError naming the option when one is out of range.

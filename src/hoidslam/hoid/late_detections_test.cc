@@ -37,6 +37,16 @@ TEST(LateDetections, DetectionsOfTheFrameItselfStayAsTheyAre) {
   EXPECT_EQ(carried[0].detection.box, cv::Rect2f(100, 100, 100, 200));
 }
 
+TEST(LateDetections, KeypointsFartherThanTheMotionBoundAreNoMatch) {
+  LateDetections late(kImage);  // within 30 px + 15 px a frame of age
+  const PersonKeypoints person;
+  late.Remember(0, person.At({0, 0}), person.descriptors);
+  late.Remember(1, person.At({50, 0}), person.descriptors);
+  EXPECT_EQ(late.Carry(0, std::vector{Person(100, 100)}, 1)[0].carry, Carry::kGrown);
+  late.Remember(2, person.At({50, 0}), person.descriptors);
+  EXPECT_EQ(late.Carry(0, std::vector{Person(100, 100)}, 2)[0].carry, Carry::kKeypoints);
+}
+
 TEST(LateDetections, ALateBoxFollowsItsKeypointsToTheFrameBeingTracked) {
   LateDetections late(kImage);
   const PersonKeypoints person;
@@ -69,13 +79,14 @@ TEST(LateDetections, ABoxWithoutKeypointsGrowsWithItsAgeUpToTheLimit) {
 TEST(LateDetections, BoxesAreClippedToTheImageAndThoseCarriedOutOfItLeftOut) {
   LateDetections late(kImage);
   const PersonKeypoints person;
-  // A person at the left edge, whose keypoints move 115 px left: out of the image.
+  // A person at the left edge, whose keypoints move 115 px left in six frames: out of the image.
   late.Remember(0, person.At({-90, 0}), person.descriptors);
-  late.Remember(1, person.At({-205, 0}), person.descriptors);
-  const std::vector<CarriedDetection> carried = late.Carry(0, std::vector{Person(10, 100), Person(600, 400)}, 1);
+  for (std::size_t frame = 1; frame < 6; ++frame) late.Remember(frame, {}, cv::Mat());
+  late.Remember(6, person.At({-205, 0}), person.descriptors);
+  const std::vector<CarriedDetection> carried = late.Carry(0, std::vector{Person(10, 100), Person(600, 400)}, 6);
   ASSERT_EQ(carried.size(), 1U);  // the one who walked out of the image is left out; the other box is clipped
-  // Grown by 4 % a side (no keypoints on it), then clipped to 640 × 480.
-  EXPECT_EQ(carried[0].detection.box, cv::Rect2f(596, 392, 44, 88));
+  // Grown by 6 × 4 % a side (no keypoints on it), then clipped to 640 × 480.
+  EXPECT_EQ(carried[0].detection.box, cv::Rect2f(576, 352, 64, 128));
 }
 
 TEST(LateDetections, FramesBeforeTheNewestDetectionsAreLetGo) {

@@ -175,6 +175,10 @@ std::vector<FrameRecord> ReadFrameLog(const fs::path& path) {
     for (const json& d : dynamic) r.dynamic.push_back(ReadDynamic(fields, d));
     if (object.contains("exclusion")) r.exclusion = ReadExclusionCounts(fields, fields.Object(object, "exclusion"));
     if (object.contains("detector_error")) r.detector_error = fields.Get<std::string>(object, "detector_error");
+    if (object.contains("detections")) {
+      r.detection_age_ms = fields.Get<double>(fields.Object(object, "detections"), "age_ms");
+    }
+    if (object.contains("dropped_before")) r.dropped_before = fields.Get<std::size_t>(object, "dropped_before");
     records.push_back(std::move(r));
   }
   return records;
@@ -440,6 +444,33 @@ std::string FeaturesSection(const RunReport& report) {
          "</section>\n";
 }
 
+// Real-time runs: how old each frame's detections were, and the frames a paced run dropped. Empty for runs whose
+// frames all waited for their own detections and dropped none.
+std::string RealTimeSection(const RunReport& report) {
+  std::size_t dropped = 0;
+  bool late = false;
+  for (const FrameRecord& frame : report.frame_log) {
+    dropped += frame.dropped_before;
+    late |= frame.detection_age_ms.value_or(0.0) > 0.0;
+  }
+  if (!late && dropped == 0) return "";
+  const double t0 = StartTime(report);
+  LineSeries age{.name = "age of the detections", .colour = std::string(PaletteColour(3))};
+  for (const FrameRecord& frame : report.frame_log) {
+    age.x.push_back(frame.timestamp - t0);
+    age.y.push_back(frame.detection_age_ms.value_or(kNaN));
+  }
+  const ChartOptions options{.title = "Age of the detections per frame", .x_label = "time (s)", .y_label = "ms",
+                             .width = 1040, .height = 260};
+  return "<section>\n<h2>Real time</h2>\n" +
+         Figure(LineChart(std::span(&age, 1), options),
+                fmt::format("How much older than each frame (in the recording's time) the detections that judged it "
+                            "were: the detector runs in its own thread and tracking does not wait for it. {} frame{} "
+                            "dropped, arriving while the system was busy.",
+                            dropped, dropped == 1 ? "" : "s")) +
+         "</section>\n";
+}
+
 std::string TimingSection(const RunReport& report) {
   if (report.median_ms.empty()) return "";
   std::vector<std::string> stages;
@@ -584,6 +615,7 @@ std::string RenderRunHtml(const RunReport& report) {
   body += FeaturesSection(report);
   body += TimingSection(report);
   body += ExclusionSection(report);
+  body += RealTimeSection(report);
   body += SnapshotsSection(report);
   body += fmt::format("<footer>Written by <code>hoidslam report</code> from {}.</footer>\n",
                       EscapeXml(report.folder.string()));

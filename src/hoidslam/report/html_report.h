@@ -59,6 +59,8 @@ struct FrameRecord {
   std::vector<DynamicDetection> dynamic;
   std::optional<ExclusionCounts> exclusion;  // when the run compared against the moving masks
   std::string detector_error;                // empty unless the detector failed on this frame
+  std::optional<double> detection_age_ms;    // how much older than the frame its detections were
+  std::size_t dropped_before = 0;            // a paced run's frames dropped just before this one
 };
 
 // summary.json's exclusion_quality: the run's keypoints against the ground-truth moving masks.

@@ -59,9 +59,10 @@ fs::path WriteRunFolder(const fs::path& folder) {
         R"({{"frame": {}, "timestamp": {:.6f}, "state": "{}", "method": "{}", "keyframe": {}, )"
         R"("features": {{"extracted": 1000, "dropped": {}, "matched": 300, "inliers": {}}}, "dynamic": {}, )"
         R"("exclusion": {{"moving_kept": 10, "moving_dropped": 50, "static_kept": 735, "static_dropped": 15}}, )"
+        R"("detections": {{"frame": {}, "age_frames": {}, "age_ms": {}}}, {})"
         R"("ms": {{"load": 12.0, "extract": 3.0, "detect": 0.0, "filter": 0.01, "track": 3.0}}}})",
         i, Stamp(i), lost ? "lost" : "ok", lost ? "none" : "motion_model", i == 0 ? "true" : "false", 200 + i,
-        lost ? 0 : 250, dynamic);
+        lost ? 0 : 250, dynamic, i / 2 * 2, i % 2, i % 2 * 33.3, i == 4 ? R"("dropped_before": 1, )" : "");
     std::erase(line, '\n');
     frames += line + "\n";
     if (!lost) {
@@ -238,6 +239,8 @@ TEST(RenderRunHtml, IsOneSelfContainedPageWithEverySection) {
   EXPECT_THAT(html, HasSubstr("Median time per stage"));
   EXPECT_THAT(html, HasSubstr("leaked: 25.0 % kept"));
   EXPECT_THAT(html, HasSubstr("Exclusion errors per frame"));
+  EXPECT_THAT(html, HasSubstr("Age of the detections per frame"));  // every other frame's are a frame old
+  EXPECT_THAT(html, HasSubstr("1 frame dropped"));
   // The snapshot inline, with a caption from its frame's log line.
   EXPECT_THAT(html, HasSubstr("src=\"data:image/jpeg;base64," + Base64Encode(report.snapshots[0].jpeg) + "\""));
   EXPECT_THAT(html, HasSubstr("<b>frame 2</b> · 1.00 s · ok (motion_model)"));
