@@ -163,7 +163,8 @@ TEST(RunSequence, BlackFramesAreLostNotGuessed) {
   }
 }
 
-// The detector in its own thread, slower than tracking: frames are judged by the newest detections, carried.
+// The detector in its own thread, at a live camera's pace: frames 133 ms apart, the detector taking 60 ms, so each
+// frame is judged by the detections of the frame before it, carried to it.
 TEST(RunSequenceRealTime, JudgesEachFrameByTheNewestDetectionsCarriedToIt) {
   HOIDSLAM_SHARED_PATH_OR_SKIP(tum_dir, "data/tum");
   testing::TempDir dir;
@@ -174,16 +175,16 @@ TEST(RunSequenceRealTime, JudgesEachFrameByTheNewestDetectionsCarriedToIt) {
   RunOptions options = Hoid2d();
   options.system.deterministic = false;
   options.realtime.enabled = true;
+  options.realtime.pace = true;
   options.realtime.detector_latency_ms = 60.0;
   const RunSummary summary = RunSequence(sequence, detector, options, dir / "out");
 
-  EXPECT_EQ(summary.frames, 40U);
-  EXPECT_EQ(summary.tracked, 40U);
-  EXPECT_EQ(summary.dropped, 0U);  // not paced: every frame is processed
-  ASSERT_EQ(summary.detection_age_frames.size(), 40U);
+  EXPECT_EQ(summary.frames + summary.dropped, 40U);
+  EXPECT_EQ(summary.tracked, summary.frames);
+  ASSERT_EQ(summary.detection_age_frames.size(), summary.frames);
   EXPECT_EQ(summary.detection_age_frames[0], 0U);  // the first frame waits for its own
   const std::vector<nlohmann::json> log = ReadLog(dir / "out" / "frames.jsonl");
-  ASSERT_EQ(log.size(), 40U);
+  ASSERT_EQ(log.size(), summary.frames);
   std::size_t late = 0;
   for (const nlohmann::json& entry : log) {
     const nlohmann::json& detections = entry.at("detections");
@@ -194,13 +195,17 @@ TEST(RunSequenceRealTime, JudgesEachFrameByTheNewestDetectionsCarriedToIt) {
     EXPECT_GE(detections["detector_ms"].get<double>(), 60.0);
     if (of < frame) ++late;
   }
-  EXPECT_GT(late, 20U);  // tracking takes a few ms a frame, the detector 60
-  EXPECT_GT(summary.boxes_carried_by_keypoints, 0U);
   EXPECT_LE(summary.detector_failures, 1U);  // frame 3's failure is seen only if the detector took frame 3
-  // Carried boxes still cover the people well enough.
-  ASSERT_TRUE(summary.exclusion.has_value());
-  EXPECT_LT(summary.exclusion->Leaked(), 0.2);
-  EXPECT_EQ(io::ReadTumTrajectory(dir / "out" / "trajectory.txt").size(), 40U);
+  EXPECT_EQ(io::ReadTumTrajectory(dir / "out" / "trajectory.txt").size(), summary.tracked);
+  // When tracking a frame takes well under the detector's 60 ms (always in a Release build, not under the slow
+  // ThreadSanitizer build, which drops most frames), every frame after the first gets the detections of the one
+  // before, carried by their keypoints, and they still cover the people.
+  if (summary.dropped == 0) {
+    EXPECT_EQ(late, 39U);
+    EXPECT_GT(summary.boxes_carried_by_keypoints, 0U);
+    ASSERT_TRUE(summary.exclusion.has_value());
+    EXPECT_LT(summary.exclusion->Leaked(), 0.2);
+  }
 }
 
 TEST(RunSequenceRealTime, APacedRunDropsTheFramesThatArriveWhileItIsBusy) {
@@ -221,10 +226,15 @@ TEST(RunSequenceRealTime, APacedRunDropsTheFramesThatArriveWhileItIsBusy) {
   EXPECT_EQ(summary.frames + summary.dropped, 16U);
   const std::vector<nlohmann::json> log = ReadLog(dir / "out" / "frames.jsonl");
   ASSERT_EQ(log.size(), summary.frames);
+  // Each frame follows the one before it and the frames dropped between them.
   std::size_t logged_dropped = 0;
-  for (const nlohmann::json& entry : log) logged_dropped += entry.value("dropped_before", std::size_t{0});
+  for (std::size_t i = 0; i < log.size(); ++i) {
+    const auto dropped_before = log[i].value("dropped_before", std::size_t{0});
+    const std::size_t expected = i == 0 ? 0 : log[i - 1]["frame"].get<std::size_t>() + 1 + dropped_before;
+    EXPECT_EQ(log[i]["frame"].get<std::size_t>(), expected) << i;
+    logged_dropped += dropped_before;
+  }
   EXPECT_EQ(logged_dropped, summary.dropped);
-  EXPECT_EQ(log[1]["frame"].get<std::size_t>(), 1 + log[1]["dropped_before"].get<std::size_t>());
   EXPECT_EQ(io::ReadTumTrajectory(dir / "out" / "trajectory.txt").size(), summary.tracked);
 }
 
