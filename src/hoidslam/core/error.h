@@ -17,7 +17,9 @@ class Error : public std::runtime_error {
 // A problem with something the user gave us: a file, a line in it, or a parameter.
 class InputError : public Error {
  public:
-  using Error::Error;
+  // The message is kept on one line whatever the input held: control characters (a line break inside a quoted
+  // value, say) are written as escapes such as \n, \r or \x1b; tabs stay.
+  explicit InputError(const std::string& what);
 
   // "<file>: <what>"
   static InputError InFile(const std::filesystem::path& file, const std::string& what);

@@ -1,5 +1,7 @@
 #include "hoidslam/core/error.h"
 
+#include <string>
+
 #include <gtest/gtest.h>
 
 namespace hoidslam::core {
@@ -13,6 +15,12 @@ TEST(InputError, NamesFileAndLine) {
 TEST(InputError, NamesParameter) {
   const InputError e = InputError::ForParameter("HOID.minInteractionArea", "must be in (0, 1], got 1.5");
   EXPECT_STREQ(e.what(), "parameter HOID.minInteractionArea: must be in (0, 1], got 1.5");
+}
+
+TEST(InputError, KeepsTheMessageOnOneLine) {
+  using namespace std::string_literals;  // "..."s keeps the NUL byte
+  const InputError e = InputError::ForParameter("HOID.mode", "unknown mode 'a\nb\r\x1b\0c\td'"s);
+  EXPECT_STREQ(e.what(), "parameter HOID.mode: unknown mode 'a\\nb\\r\\x1b\\x00c\td'");
 }
 
 TEST(InputError, IsAnError) {

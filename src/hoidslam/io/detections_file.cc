@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
+#include <limits>
 #include <string>
 
 #include <fmt/format.h>
@@ -40,6 +42,27 @@ class LineParser {
     return number;
   }
 
+  // Box coordinates are stored as float: a number beyond float's range would become infinite.
+  float BoxNumber(const json& value, const std::string& key) const {
+    const double number = Number(value, key);
+    if (std::abs(number) > std::numeric_limits<float>::max()) Fail(fmt::format("'{}' is out of range", key));
+    return static_cast<float>(number);
+  }
+
+  // An integer in [lo, hi]. nlohmann::json would wrap a larger one into int silently (2^32 + 1 reads as 1).
+  int Integer(const json& value, const std::string& key, int lo, int hi) const {
+    bool in_range = false;
+    if (value.is_number_unsigned()) {  // may exceed int64's range
+      const auto v = value.get<std::uint64_t>();
+      in_range = (lo <= 0 || v >= static_cast<std::uint64_t>(lo)) && v <= static_cast<std::uint64_t>(hi);
+    } else if (value.is_number_integer()) {
+      const auto v = value.get<std::int64_t>();
+      in_range = v >= lo && v <= hi;
+    }
+    if (!in_range) Fail(fmt::format("'{}' must be an integer in [{}, {}], got {}", key, lo, hi, value.dump()));
+    return value.get<int>();
+  }
+
   core::Detection Detection(const json& object, std::size_t index) const {
     const std::string where = fmt::format("detections[{}].", index);
     if (!object.is_object()) Fail(fmt::format("'detections[{}]' must be an object", index));
@@ -50,8 +73,7 @@ class LineParser {
     }
     detection.label = label.get<std::string>();
     if (const auto it = object.find("class_id"); it != object.end()) {
-      if (!it->is_number_integer()) Fail(fmt::format("'{}class_id' must be an integer", where));
-      detection.class_id = it->get<int>();
+      detection.class_id = Integer(*it, where + "class_id", -1, std::numeric_limits<int>::max());
     }
     detection.score = static_cast<float>(Number(Member(object, "score", where), where + "score"));
     if (detection.score < 0.0F || detection.score > 1.0F) {
@@ -59,31 +81,28 @@ class LineParser {
     }
     const json& box = Member(object, "box", where);
     if (!box.is_array() || box.size() != 4) Fail(fmt::format("'{}box' must be [x, y, width, height]", where));
-    const double x = Number(box[0], where + "box[0]");
-    const double y = Number(box[1], where + "box[1]");
-    const double width = Number(box[2], where + "box[2]");
-    const double height = Number(box[3], where + "box[3]");
-    if (width < 0.0 || height < 0.0) Fail(fmt::format("'{}box' has a negative width or height", where));
-    detection.box = cv::Rect2f(static_cast<float>(x), static_cast<float>(y), static_cast<float>(width),
-                               static_cast<float>(height));
+    const float x = BoxNumber(box[0], where + "box[0]");
+    const float y = BoxNumber(box[1], where + "box[1]");
+    const float width = BoxNumber(box[2], where + "box[2]");
+    const float height = BoxNumber(box[3], where + "box[3]");
+    if (width < 0.0F || height < 0.0F) Fail(fmt::format("'{}box' has a negative width or height", where));
+    detection.box = cv::Rect2f(x, y, width, height);
     return detection;
   }
 
   DetectionsFileHeader Header(const json& object) const {
     if (object.at("format") != kFormatName) Fail(fmt::format("'format' must be \"{}\"", kFormatName));
     const json& version = Member(object, "version", "");
-    if (!version.is_number_integer() || version.get<int>() != kFormatVersion) {
+    if (!version.is_number_integer() || version != kFormatVersion) {
       Fail(fmt::format("unsupported version {} (this hoidslam reads version {})", version.dump(), kFormatVersion));
     }
     DetectionsFileHeader header;
     if (const auto it = object.find("sequence"); it != object.end() && it->is_string()) header.sequence = *it;
     if (const auto it = object.find("detector"); it != object.end() && it->is_string()) header.detector = *it;
     if (const auto it = object.find("image_size"); it != object.end()) {
-      if (!it->is_array() || it->size() != 2 || !(*it)[0].is_number_integer() || !(*it)[1].is_number_integer()) {
-        Fail("'image_size' must be [width, height]");
-      }
-      header.image_width = (*it)[0].get<int>();
-      header.image_height = (*it)[1].get<int>();
+      if (!it->is_array() || it->size() != 2) Fail("'image_size' must be [width, height]");
+      header.image_width = Integer((*it)[0], "image_size[0]", 0, std::numeric_limits<int>::max());
+      header.image_height = Integer((*it)[1], "image_size[1]", 0, std::numeric_limits<int>::max());
     }
     return header;
   }
@@ -119,7 +138,7 @@ DetectionsFile DetectionsFile::Read(const std::filesystem::path& path) {
     json object;
     try {
       object = json::parse(text);
-    } catch (const json::parse_error& e) {
+    } catch (const json::exception& e) {  // parse_error, or out_of_range for a number such as 1e400
       parser.Fail(fmt::format("not valid JSON ({})", e.what()));
     }
     if (!object.is_object()) parser.Fail("each line must be a JSON object");

@@ -97,6 +97,19 @@ TEST(DetectionsFile, ErrorsNameFileLineAndKey) {
   EXPECT_EQ(ErrorOf(path), prefix + "missing key 'detections[0].label'");
   WriteText(path, good + "{\"format\": \"hoidslam-detections\", \"version\": 1}\n");
   EXPECT_EQ(ErrorOf(path), prefix + "the header line must be the first line");
+  WriteText(path, good + "{\"timestamp\": 1e400, \"detections\": []}\n");
+  EXPECT_EQ(ErrorOf(path).rfind(prefix + "not valid JSON ([json.exception.out_of_range.406] number overflow", 0), 0U)
+      << ErrorOf(path);
+  WriteText(path,
+            good + "{\"timestamp\": 2, \"detections\": [{\"label\": \"cup\", \"score\": 1, \"box\": [1e300,0,1,1]}]}\n");
+  EXPECT_EQ(ErrorOf(path), prefix + "'detections[0].box[0]' is out of range");
+  WriteText(path, good + "{\"timestamp\": 2, \"detections\": [{\"label\": \"cup\", \"class_id\": 4294967296, "
+                         "\"score\": 1, \"box\": [0,0,1,1]}]}\n");
+  EXPECT_EQ(ErrorOf(path), prefix + "'detections[0].class_id' must be an integer in [-1, 2147483647], got 4294967296");
+  WriteText(path, "{\"format\": \"hoidslam-detections\", \"version\": 4294967297}\n");
+  EXPECT_EQ(ErrorOf(path), path.string() + ":1: unsupported version 4294967297 (this hoidslam reads version 1)");
+  WriteText(path, "{\"format\": \"hoidslam-detections\", \"version\": 1, \"image_size\": [-640, 480]}\n");
+  EXPECT_EQ(ErrorOf(path), path.string() + ":1: 'image_size[0]' must be an integer in [0, 2147483647], got -640");
   WriteText(path, good + good);
   EXPECT_EQ(ErrorOf(path), path.string() + ": timestamp 1.000000 appears on more than one line");
   EXPECT_EQ(ErrorOf(dir / "absent.jsonl"), (dir / "absent.jsonl").string() + ": no such file");

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <map>
 #include <string_view>
+#include <system_error>
 
 #include <fmt/format.h>
 #include <opencv2/core.hpp>
@@ -35,9 +36,19 @@ void CheckOptions(const SequenceOptions& options) {
 
 // `root / listed`, which must exist; the error names the list file, its line and the missing image.
 fs::path ListedImage(const fs::path& root, std::string_view listed, const fs::path& list_file, std::size_t line) {
+  // The operating system would read a path only up to a NUL byte, and so find an image the line does not name.
+  if (listed.find('\0') != std::string_view::npos) {
+    throw InputError::AtLine(list_file, line, "the image path contains a NUL byte");
+  }
   fs::path image = root / fs::path(listed);
-  if (!fs::is_regular_file(image)) {
-    throw InputError::AtLine(list_file, line, fmt::format("listed image {} does not exist", image.string()));
+  // Without an error code, a name the system cannot look up (too long, say) would throw filesystem_error.
+  std::error_code error;
+  if (!fs::is_regular_file(image, error)) {
+    const bool absent = !error || error == std::errc::no_such_file_or_directory || error == std::errc::not_a_directory;
+    throw InputError::AtLine(
+        list_file, line,
+        absent ? fmt::format("listed image {} does not exist", image.string())
+               : fmt::format("cannot look at listed image {}: {}", image.string(), error.message()));
   }
   return image;
 }

@@ -208,6 +208,18 @@ TEST_F(TumFolder, NamesListFileLineAndImageOfAMissingImage) {
               ThrowsMessage<InputError>(AllOf(HasSubstr("assoc.txt:2"), HasSubstr("rgb/gone.png"))));
 }
 
+TEST_F(TumFolder, RejectsImagePathsTheSystemCannotLookUpOrWouldCut) {
+  Lists(Colour(1.0) + "1.1 rgb/" + std::string(300, 'x') + ".png\n", Depth(1.0));
+  EXPECT_THAT([&] { RgbdSequence::OpenTum(root_); },
+              ThrowsMessage<InputError>(AllOf(HasSubstr("rgb.txt:3: cannot look at listed image"),
+                                              HasSubstr("File name too long"))));
+  // The system would read "rgb/1.000000.png", which exists, and ignore the rest.
+  using namespace std::string_literals;  // "..."s keeps the NUL byte
+  Lists(Colour(1.0) + "1.1 rgb/1.000000.png\0.jpg\n"s, Depth(1.0));
+  EXPECT_THAT([&] { RgbdSequence::OpenTum(root_); },
+              ThrowsMessage<InputError>(HasSubstr("rgb.txt:3: the image path contains a NUL byte")));
+}
+
 TEST_F(TumFolder, RejectsListsWithNothingToPair) {
   Lists(Colour(1.0), Depth(1.5));
   EXPECT_THAT([&] { RgbdSequence::OpenTum(root_); },
@@ -254,7 +266,7 @@ TEST_F(BadDepth, ThreeChannelDepthIsRejected) {
 }
 
 TEST_F(BadDepth, GarbageBytesAreRejected) {
-  WriteText(depth_, std::string("\x89PNG definitely not an image \x01\x02\x03", 34));
+  WriteText(depth_, "\x89PNG definitely not an image \x01\x02\x03");
   ExpectLoadFrameNamesDepthFile("cannot decode");
 }
 

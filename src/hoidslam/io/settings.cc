@@ -4,6 +4,8 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <limits>
 #include <set>
 #include <string>
@@ -305,21 +307,50 @@ InputError SyntaxError(const fs::path& path, const cv::Exception& e) {
   return InputError::InFile(path, "YAML syntax error: " + where);
 }
 
+InputError NotSettingsFile(const fs::path& path) {
+  // OpenCV's own wording here ("Input file is invalid", "buf") would not help the user.
+  return InputError::InFile(
+      path, "not a settings file: it must be YAML beginning with the line %YAML:1.0, as ORB-SLAM3 settings files do");
+}
+
+// Checks the file before cv::FileStorage reads it, against crashes and hangs of OpenCV 4.6 that fuzzing found
+// (fuzz/regressions/settings). FileStorage also reads XML and JSON, chosen by the first bytes, and its XML
+// reader crashes on some malformed files; its YAML reader never returns from some lines with NUL bytes, nor
+// from a document marker followed by a list on its line ("--- - a"). Settings files are YAML text with
+// `key: value` lines, so none of that is lost.
+void CheckIsYamlText(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  if (in.bad()) throw InputError::InFile(path, "read error");
+  if (!text.starts_with("%YAML")) throw NotSettingsFile(path);
+  std::size_t line_number = 1;
+  for (std::size_t begin = 0; begin < text.size(); ++line_number) {
+    const std::size_t end = std::min(text.find('\n', begin), text.size());
+    const std::string_view line = std::string_view(text).substr(begin, end - begin);
+    if (line.find('\0') != std::string_view::npos) {
+      throw InputError::AtLine(path, line_number, "a NUL byte: a settings file is text");
+    }
+    if (const std::size_t after = line.find_first_not_of(" \t\r", 3);
+        line.starts_with("---") && after != std::string_view::npos && line[after] != '#') {
+      throw InputError::AtLine(path, line_number, "the document marker --- must stand alone on its line");
+    }
+    begin = end + 1;
+  }
+}
+
 }  // namespace
 
 void Settings::Check() const { CheckSettings(*this, Spelling::kOriginal); }
 
 Settings LoadSettings(const std::filesystem::path& path) {
   if (!fs::is_regular_file(path)) throw InputError::InFile(path, "settings file does not exist");
+  CheckIsYamlText(path);
   cv::FileStorage storage;
   try {
     storage.open(path.string(), cv::FileStorage::READ);
   } catch (const cv::Exception& e) {
     if (e.code == cv::Error::StsParseError) throw SyntaxError(path, e);
-    // OpenCV's own wording here ("Input file is invalid", "buf") would not help the user.
-    throw InputError::InFile(path,
-                             "not a settings file: it must be YAML beginning with the line %YAML:1.0, as "
-                             "ORB-SLAM3 settings files do");
+    throw NotSettingsFile(path);
   }
   if (!storage.isOpened()) throw InputError::InFile(path, "cannot open for reading");
   const cv::FileNode root = storage.root();

@@ -300,6 +300,30 @@ TEST_F(SettingsFile, RejectsFilesThatAreNotSettingsNamingThem) {
   }
 }
 
+// OpenCV's XML reader crashes on some malformed files, and its YAML reader never returns on some lines with NUL
+// bytes or with a list after a document marker (fuzz/regressions/settings): none of them reaches OpenCV.
+TEST_F(SettingsFile, ReadsOnlyYamlText) {
+  const fs::path xml = Write("<?xml version=\"1.0\"?>\n<opencv_storage><Camera.fx>1</Camera.fx></opencv_storage>\n");
+  EXPECT_THAT([&] { LoadSettings(xml); }, ThrowsMessage<InputError>(HasSubstr(xml.string() + ": not a settings file")));
+  const fs::path json = Write("{\"Camera.fx\": 535.4}\n");
+  EXPECT_THAT([&] { LoadSettings(json); },
+              ThrowsMessage<InputError>(HasSubstr(json.string() + ": not a settings file")));
+  using namespace std::string_literals;  // "..."s keeps the NUL byte
+  const fs::path nul = Write("%YAML:1.0\nCamera.fx: 535.4\nHOID.mode: 'a\0'\n"s);
+  EXPECT_THAT([&] { LoadSettings(nul); },
+              ThrowsMessage<InputError>(HasSubstr(nul.string() + ":3: a NUL byte: a settings file is text")));
+  const fs::path marker = Write("%YAML:1.0\n---  # OpenCV writes this line\n--- - s\n-\n");
+  EXPECT_THAT([&] { LoadSettings(marker); },
+              ThrowsMessage<InputError>(HasSubstr(marker.string() + ":3: the document marker --- must stand alone")));
+}
+
+// A quoted value with an escaped line break stays in a one-line message.
+TEST_F(SettingsFile, KeepsMessagesOnOneLine) {
+  const fs::path path = Write(With(MinimalOriginal(), "HOID.mode", "\"a\\nb\""));
+  EXPECT_THAT([&] { LoadSettings(path); },
+              ThrowsMessage<InputError>(HasSubstr("parameter HOID.mode: unknown mode 'a\\nb'")));
+}
+
 TEST_F(SettingsFile, NamesTheLineOfAYamlSyntaxError) {
   const fs::path path = Write("%YAML:1.0\nCamera.fx: 535.4\nHOID.dynamicClasses: [person, cup\n");
   EXPECT_THAT([&] { LoadSettings(path); },

@@ -171,7 +171,11 @@ TrackResult Tracker::Track(Frame frame) {
     result.T_cw = frame.T_cw;
     if (frame.reference_keyframe == nullptr) frame.reference_keyframe = reference_keyframe_;
     reference_keyframe_ = frame.reference_keyframe;
-    records_.push_back({frame.timestamp, reference_keyframe_, frame.T_cw * reference_keyframe_->T_wc()});
+    {
+      // Local mapping's bundle adjustment may be moving the reference keyframe right now.
+      std::shared_lock lock(map_.mutex());
+      records_.push_back({frame.timestamp, reference_keyframe_, frame.T_cw * reference_keyframe_->T_wc()});
+    }
     // The next frame searches from this one's inliers only.
     for (int i = 0; i < frame.size(); ++i) {
       if (frame.outlier[static_cast<std::size_t>(i)] != 0) frame.map_points[static_cast<std::size_t>(i)] = nullptr;

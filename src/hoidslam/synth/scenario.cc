@@ -93,8 +93,10 @@ class Node {
   }
   int Int(int lo, int hi) const {
     if (!value_.is_number_integer()) Fail("must be a whole number");
+    // Above int64's range, get<std::int64_t> would wrap (2^64 - 1 reads as -1).
+    const bool above = value_.is_number_unsigned() && value_.get<std::uint64_t>() > static_cast<std::uint64_t>(hi);
     const auto v = value_.get<std::int64_t>();
-    if (v < lo || v > hi) Fail(fmt::format("{} is outside [{}, {}]", v, lo, hi));
+    if (above || v < lo || v > hi) Fail(fmt::format("{} is outside [{}, {}]", value_.dump(), lo, hi));
     return static_cast<int>(v);
   }
   bool Bool() const {
@@ -394,6 +396,33 @@ TextureOptions ParseTextures(const Node& node) {
   return o;
 }
 
+// Where nlohmann::json stops reading invalid JSON: its count of bytes read, from 1. Only parse_error carries it;
+// a number out of double's range (1e400) throws out_of_range without one, so the text is read again by a SAX
+// reader that builds nothing and keeps the position of the error.
+std::size_t JsonErrorByte(std::string_view text) {
+  struct ErrorPosition {
+    std::size_t byte = 1;
+    bool null() { return true; }
+    bool boolean(bool) { return true; }
+    bool number_integer(json::number_integer_t) { return true; }
+    bool number_unsigned(json::number_unsigned_t) { return true; }
+    bool number_float(json::number_float_t, const json::string_t&) { return true; }
+    bool string(json::string_t&) { return true; }
+    bool binary(json::binary_t&) { return true; }
+    bool start_object(std::size_t) { return true; }
+    bool key(json::string_t&) { return true; }
+    bool end_object() { return true; }
+    bool start_array(std::size_t) { return true; }
+    bool end_array() { return true; }
+    bool parse_error(std::size_t position, const std::string&, const json::exception&) {
+      byte = std::max<std::size_t>(position, 1);
+      return false;
+    }
+  } reader;
+  json::sax_parse(text.begin(), text.end(), &reader);
+  return reader.byte;
+}
+
 }  // namespace
 
 std::string_view ToString(ActionType type) { return core::EnumName(kActionNames, type); }
@@ -403,8 +432,8 @@ Scenario ParseScenario(std::string_view text, const std::string& source) {
   scenario.source = source;
   try {
     scenario.document = json::parse(text.begin(), text.end());
-  } catch (const json::parse_error& e) {
-    const std::size_t end = std::min<std::size_t>(e.byte == 0 ? 0 : e.byte - 1, text.size());
+  } catch (const json::exception& e) {  // parse_error, or out_of_range for a number such as 1e400
+    const std::size_t end = std::min<std::size_t>(JsonErrorByte(text) - 1, text.size());
     const std::size_t line =
         1 + static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(end), '\n'));
     throw core::InputError::AtLine(source, line, "not valid JSON: " + std::string(e.what()));

@@ -176,6 +176,11 @@ TEST(Scenario, NamesAreCheckedAgainstTheirListsWithTheKey) {
 
 TEST(Scenario, BrokenJsonNamesTheLine) {
   EXPECT_THAT(ParseError("{\n  \"name\": \"t\",\n  \"seed\": ,\n}"), HasSubstr("x.json:3: not valid JSON"));
+  // A number beyond double's range is an out_of_range error of nlohmann::json, which carries no position.
+  EXPECT_THAT(ParseError("{\n  \"name\": \"t\",\n  \"seed\": 1e400\n}"),
+              HasSubstr("x.json:3: not valid JSON: [json.exception.out_of_range.406] number overflow parsing '1e400'"));
+  EXPECT_THAT(ParseError(Valid("[]", R"( "frames": 18446744073709551615,)")),
+              HasSubstr("x.json: frames: 18446744073709551615 is outside [0, 10000000]"));
 }
 
 TEST(Scenario, LoadsUserFilesAndNamesMissingOnes) {
