@@ -124,7 +124,7 @@ MaskExportSummary ExportMasks(const io::RgbdSequence& sequence, detect::Detector
   MaskExportSummary summary;
   double masked_share_sum = 0.0;
   core::ProgressReporter progress("masks", total);
-  std::vector<core::Detection> detections;  // kept across frames: a failed frame reuses the last ones, as in run
+  std::vector<core::Detection> detections;  // kept across frames: a failed frame reuses the last ones (run also moves them by their keypoints; masks has none)
   hoid::JudgedBoxes boxes;
   std::vector<std::uint8_t> no_keypoints;
   for (std::size_t index = 0; index < total; ++index) {
