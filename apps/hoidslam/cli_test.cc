@@ -297,9 +297,11 @@ TEST(CliRun, RealTimePacedRunLogsHowOldTheDetectionsWere) {
   const testing::TempDir scratch;
   const fs::path sequence = Render(scratch, "walking_xyz", 60, 1);  // 2 s at 30 Hz
   const fs::path out = scratch / "run";
-  const RunResult run = RunHoidslam(scratch, {"run", sequence.string(), "--realtime", "--pace", "--detector-latency",
-                                              "50", "--out", out.string()});
+  // 64 MB hold about 30 frames: the replay decodes the second half when it gets there.
+  const RunResult run = RunHoidslam(scratch, {"run", sequence.string(), "--realtime", "--pace", "--preload-mb", "64",
+                                              "--detector-latency", "50", "--out", out.string()});
   ASSERT_EQ(run.exit_status, 0) << run.err;
+  EXPECT_THAT(run.err, HasSubstr("the camera's clock held meanwhile"));
   EXPECT_THAT(run.out, HasSubstr("frames dropped"));
   EXPECT_THAT(run.out, HasSubstr("detections: median age"));
   const nlohmann::json summary = Summary(out);
@@ -313,6 +315,12 @@ TEST(CliRun, RealTimePacedRunLogsHowOldTheDetectionsWere) {
   ExpectOneErrorLine(RunHoidslam(scratch, {"run", sequence.string(), "--realtime", "--deterministic", "--out",
                                            (scratch / "no").string()}),
                      "--realtime");
+  // A usage error, as for every option out of its range: the option named, and a pointer to --help.
+  const RunResult no_memory =
+      RunHoidslam(scratch, {"run", sequence.string(), "--pace", "--preload-mb", "0", "--out", (scratch / "no").string()});
+  EXPECT_NE(no_memory.exit_status, 0);
+  EXPECT_THAT(no_memory.err, HasSubstr("--preload-mb: Value 0 not in range"));
+  EXPECT_FALSE(fs::exists(scratch / "no"));
 }
 
 TEST(CliRun, CtrlCAtAnyMomentLeavesCompleteOutputsOrNone) {

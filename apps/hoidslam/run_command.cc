@@ -42,6 +42,7 @@ struct RunArgs {
   bool deterministic = false;
   bool realtime = false;
   bool pace = false;
+  std::size_t preload_megabytes = pipeline::RealTimeOptions{}.preload_megabytes;
   double detector_latency_ms = 0.0;
   bool force = false;
 };
@@ -126,6 +127,7 @@ void RunRun(const RunArgs& args) {
   options.system.deterministic = args.deterministic;
   options.realtime.enabled = args.realtime;
   options.realtime.pace = args.pace;
+  options.realtime.preload_megabytes = args.preload_megabytes;
   options.realtime.detector_latency_ms = args.detector_latency_ms;
   options.max_frames = args.frames;
   options.Check();
@@ -244,7 +246,13 @@ void AddRunCommand(CLI::App& app) {
                     "(docs/realtime.md)");
   command->add_flag("--pace", args->pace,
                     "Play the sequence at its recorded rate, as a live camera: frames arriving while the system is "
-                    "busy are dropped and counted");
+                    "busy are dropped and counted. The frames are decoded ahead, as a camera delivers them "
+                    "decoded");
+  command->add_option("--preload-mb", args->preload_megabytes,
+                      "With --pace: memory for the frames decoded ahead; when a sequence needs more, the clock stops "
+                      "while the next part is decoded")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 20))
+      ->capture_default_str();
   command->add_option("--detector-latency", args->detector_latency_ms,
                       "Every detection takes at least this many ms: a simulated network latency when replaying a "
                       "detections file")

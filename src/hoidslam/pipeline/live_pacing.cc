@@ -34,4 +34,8 @@ std::optional<std::size_t> LivePacing::Next(std::optional<std::size_t> previous,
   return newest;
 }
 
+void LivePacing::Hold(std::chrono::steady_clock::duration duration) {
+  if (start_) *start_ += duration;
+}
+
 }  // namespace hoidslam::pipeline

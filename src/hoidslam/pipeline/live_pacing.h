@@ -26,6 +26,10 @@ class LivePacing {
   // `stop_requested` says so while waiting.
   std::optional<std::size_t> Next(std::optional<std::size_t> previous, const std::function<bool()>& stop_requested);
 
+  // Stops the clock for `duration`: every frame still to come arrives that much later. A replay decoding its next
+  // frames holds the clock, as a live camera has its frames decoded when it hands them out.
+  void Hold(std::chrono::steady_clock::duration duration);
+
   std::size_t dropped() const { return dropped_; }
 
  private:

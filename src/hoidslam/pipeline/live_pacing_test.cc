@@ -52,6 +52,17 @@ TEST(LivePacing, FramesArrivingWhileBusyAreDroppedAndCounted) {
   EXPECT_EQ(pacing.dropped(), *frame - 1);
 }
 
+TEST(LivePacing, HoldingTheClockDelaysEveryFrameStillToCome) {
+  LivePacing pacing(Frames());
+  std::optional<std::size_t> frame = pacing.Next(std::nullopt, {});
+  const auto start = std::chrono::steady_clock::now();
+  pacing.Hold(100ms);
+  frame = pacing.Next(frame, {});
+  EXPECT_GE(std::chrono::steady_clock::now() - start, 100ms);  // frame 1 was due 10 ms after frame 0, now 110 ms
+  ASSERT_TRUE(frame);
+  EXPECT_EQ(pacing.dropped(), *frame - 1);
+}
+
 TEST(LivePacing, AStopRequestEndsTheWaitForTheNextFrame) {
   LivePacing pacing({0.0, 3600.0});  // the second frame comes in an hour
   std::optional<std::size_t> frame = pacing.Next(std::nullopt, {});

@@ -17,7 +17,7 @@
 #include "hoidslam/hoid/explain.h"
 #include "hoidslam/report/annotate.h"
 #include "hoidslam/pipeline/detector_thread.h"
-#include "hoidslam/pipeline/live_pacing.h"
+#include "hoidslam/pipeline/paced_replay.h"
 
 namespace hoidslam::pipeline {
 namespace {
@@ -149,6 +149,10 @@ class FrameDetections {
 }  // namespace
 
 void RealTimeOptions::Check() const {
+  if (preload_megabytes < 1 || preload_megabytes > (std::size_t{1} << 20)) {
+    throw core::InputError::ForParameter("--preload-mb",
+                                         fmt::format("must be in [1, 1048576] MB, got {}", preload_megabytes));
+  }
   if (!(detector_latency_ms >= 0.0 && detector_latency_ms <= 60000.0)) {
     throw core::InputError::ForParameter("--detector-latency",
                                          fmt::format("must be in [0, 60000] ms, got {}", detector_latency_ms));
@@ -208,13 +212,10 @@ RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detec
   RunSummary summary;
   summary.times.reserve(total);
   if (exclusion.CanScore()) summary.exclusion.emplace();
+  // A paced replay decodes its first frames before the run's clock starts, as a camera is ready before it streams.
+  std::optional<PacedReplay> paced;
+  if (realtime.pace) paced.emplace(sequence, total, realtime.preload_megabytes << 20);
   core::ProgressReporter progress("run", total);
-  std::optional<LivePacing> pacing;
-  if (realtime.pace) {
-    std::vector<double> timestamps = sequence.Timestamps();
-    timestamps.resize(total);
-    pacing.emplace(std::move(timestamps));
-  }
   // Both modes hand frames to the detector thread: the synchronous one then waits for each frame's detections.
   std::optional<FrameDetections> detections;
   if (options.exclusion.NeedsDetections() || options.exclusion.oracle) detections.emplace(detector, options);
@@ -223,20 +224,20 @@ RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detec
   const core::Stopwatch run_clock;
   for (std::optional<std::size_t> previous; true;) {
     const std::optional<std::size_t> next =
-        pacing ? pacing->Next(previous, stop_requested) : std::optional(previous ? *previous + 1 : 0);
+        paced ? paced->Next(previous, stop_requested) : std::optional(previous ? *previous + 1 : 0);
     if (stop_requested && stop_requested()) {
       summary.interrupted = true;
       break;
     }
     if (!next || *next >= total) break;
     const std::size_t index = *next;
-    const std::size_t dropped_before = pacing ? pacing->dropped() - summary.dropped : 0;
+    const std::size_t dropped_before = paced ? paced->dropped() - summary.dropped : 0;
     summary.dropped += dropped_before;
     previous = index;
 
     StageTimes times;
     core::Stopwatch clock;
-    const core::RgbdFrame frame = sequence.LoadFrame(index);
+    const core::RgbdFrame frame = paced ? paced->Take(index) : sequence.LoadFrame(index);
     times.load = clock.ElapsedMilliseconds();
     if (detections) detections->Submit(index, frame);
 
@@ -304,7 +305,7 @@ RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detec
     log.stream() << entry.dump() << '\n';
     progress.Update(index + 1);
   }
-  summary.seconds = run_clock.ElapsedMilliseconds() / 1000.0;
+  summary.seconds = run_clock.ElapsedMilliseconds() / 1000.0 - (paced ? paced->held_seconds() : 0.0);
   detections.reset();  // the detector thread stops: the detector is the caller's again
 
   system.Finish();

@@ -40,11 +40,14 @@ struct RealTimeOptions {
   // Frames arrive at their recorded rate, as from a live camera; those that come while the system is busy are
   // dropped (live_pacing.h). Off: every frame is processed, as fast as it goes.
   bool pace = false;
+  // How much memory the frames a paced replay decodes ahead may take (paced_replay.h); the clock stops while a
+  // further chunk is decoded. 2 GiB holds about 1,000 frames of 640×480.
+  std::size_t preload_megabytes = 2048;
   // Every detection takes at least this long (ms): a simulated network latency, for a detections file.
   double detector_latency_ms = 0.0;
   hoid::LateDetectionOptions late_detections;
 
-  // Throws InputError naming the parameter (--detector-latency) when out of range.
+  // Throws InputError naming the parameter (--preload-mb, --detector-latency) when out of range.
   void Check() const;
 };
 
@@ -62,7 +65,8 @@ struct RunOptions {
   void Check() const;
 };
 
-// Milliseconds per stage of one frame. `detect` is what tracking spent on the detections: waiting for the detector
+// Milliseconds per stage of one frame. `load` is reading and decoding the images (near 0 in a paced replay, which
+// decodes ahead). `detect` is what tracking spent on the detections: waiting for the detector
 // (all of its time in the synchronous mode, the first frame's only in the real-time mode) and carrying late boxes.
 struct StageTimes {
   double load = 0, extract = 0, detect = 0, filter = 0, track = 0;
@@ -90,7 +94,7 @@ struct RunSummary {
   std::vector<double> detector_ms;
   std::size_t boxes_carried_by_keypoints = 0;  // late boxes moved by their keypoints' motion
   std::size_t boxes_grown = 0;                 // late boxes grown, with too few keypoint matches
-  double seconds = 0.0;              // wall-clock time of the frame loop
+  double seconds = 0.0;              // wall-clock time of the frame loop, less a paced replay's decoding holds
   std::optional<ExclusionCounts> exclusion;  // over all frames, when the sequence has ground-truth moving masks
   bool interrupted = false;          // stopped early by the caller; the outputs hold the frames done
 };

@@ -219,7 +219,7 @@ TEST(RunSequenceRealTime, APacedRunDropsTheFramesThatArriveWhileItIsBusy) {
   options.system.deterministic = false;
   options.realtime.enabled = true;
   options.realtime.pace = true;
-  options.realtime.detector_latency_ms = 400.0;  // the first frame waits for it: three frames come meanwhile
+  options.realtime.detector_latency_ms = 500.0;  // the first frame waits for it: three frames come meanwhile
   const RunSummary summary = RunSequence(sequence, detector, options, dir / "out");
 
   EXPECT_GE(summary.dropped, 2U);
@@ -250,6 +250,14 @@ TEST(RunOptions, TheRealTimeModeCannotBeDeterministic) {
   options.system.deterministic = false;
   options.realtime.detector_latency_ms = -1;
   EXPECT_THROW(options.Check(), core::InputError);
+  options.realtime.detector_latency_ms = 0;
+  options.realtime.preload_megabytes = 0;
+  try {
+    options.Check();
+    FAIL() << "no error";
+  } catch (const core::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--preload-mb"), std::string::npos);
+  }
 }
 
 }  // namespace
