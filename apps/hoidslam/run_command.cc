@@ -55,15 +55,21 @@ double MedianMs(const std::vector<pipeline::StageTimes>& times, const std::funct
   return values.empty() ? 0.0 : eval::ComputeStatistics(values).median;
 }
 
-// Against the ground-truth moving masks: null when the sequence has none.
-nlohmann::json ExclusionQualityJson(const std::optional<pipeline::ExclusionCounts>& counts) {
-  if (!counts) return nullptr;
-  return {{"leaked", counts->Leaked()},
-          {"wasted", counts->Wasted()},
-          {"moving_kept", counts->moving_kept},
-          {"moving_dropped", counts->moving_dropped},
-          {"static_kept", counts->static_kept},
-          {"static_dropped", counts->static_dropped}};
+// Against the ground-truth moving masks: null when the sequence has none; the count on still people is null
+// when it has no people masks.
+nlohmann::json ExclusionQualityJson(const pipeline::RunSummary& s) {
+  if (!s.exclusion) return nullptr;
+  const pipeline::ExclusionCounts& counts = *s.exclusion;
+  nlohmann::json on_still_people = nullptr;
+  if (s.still_people_scored) on_still_people = counts.static_dropped_on_still_people;
+  return {{"leaked", counts.Leaked()},
+          {"wasted", counts.Wasted()},
+          {"moving_kept", counts.moving_kept},
+          {"moving_dropped", counts.moving_dropped},
+          {"static_kept", counts.static_kept},
+          {"static_dropped", counts.static_dropped},
+          {"static_dropped_without_depth", counts.static_dropped_without_depth},
+          {"static_dropped_on_still_people", on_still_people}};
 }
 
 double Median(std::vector<double> values) {
@@ -105,7 +111,7 @@ nlohmann::json SummaryJson(const pipeline::RunSummary& s, const std::string& seq
           {"seconds", s.seconds},
           {"frames_per_second", s.seconds > 0.0 ? static_cast<double>(s.frames) / s.seconds : 0.0},
           {"detections", DetectionsJson(s)},
-          {"exclusion_quality", ExclusionQualityJson(s.exclusion)},
+          {"exclusion_quality", ExclusionQualityJson(s)},
           {"median_ms",
            {{"load", median(&pipeline::StageTimes::load)},
             {"extract", median(&pipeline::StageTimes::extract)},

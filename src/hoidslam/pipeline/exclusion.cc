@@ -56,8 +56,21 @@ ExclusionCounts& ExclusionCounts::operator+=(const ExclusionCounts& other) {
   moving_dropped += other.moving_dropped;
   static_kept += other.static_kept;
   static_dropped += other.static_dropped;
+  static_dropped_without_depth += other.static_dropped_without_depth;
+  static_dropped_on_still_people += other.static_dropped_on_still_people;
   return *this;
 }
+
+namespace {
+
+// By the rule hoidplus drops by (hoid/foreground.h): the depth at the pixel the keypoint rounds to.
+bool HasValidDepth(const cv::Mat& depth, const cv::KeyPoint& keypoint) {
+  const int x = static_cast<int>(std::lround(keypoint.pt.x));
+  const int y = static_cast<int>(std::lround(keypoint.pt.y));
+  return x >= 0 && y >= 0 && x < depth.cols && y < depth.rows && hoid::IsValidDepth(depth.at<float>(y, x));
+}
+
+}  // namespace
 
 bool OnMask(const cv::Mat& mask, const cv::KeyPoint& keypoint) {
   const int x = static_cast<int>(std::lround(keypoint.pt.x));
@@ -72,6 +85,7 @@ KeypointExclusion::KeypointExclusion(const ExclusionOptions& options, const std:
   if (!options_.oracle && options_.hoid.mode == core::FilterMode::kHoidPlus) plus_.emplace(options_.hoid, camera);
   if (std::filesystem::is_directory(sequence_root / "mask")) {
     mask_folder_ = sequence_root / "mask";
+    if (std::filesystem::is_directory(sequence_root / "people")) people_folder_ = sequence_root / "people";
   } else if (options_.oracle) {
     throw core::InputError::InFile(
         sequence_root / "mask",
@@ -79,30 +93,44 @@ KeypointExclusion::KeypointExclusion(const ExclusionOptions& options, const std:
   }
 }
 
-const cv::Mat& KeypointExclusion::MovingMask(const core::RgbdFrame& frame) const {
-  // The mask has the colour image's name: mask/<t>.png beside rgb/<t>.png.
-  const std::filesystem::path mask_path = mask_folder_ / std::filesystem::path(frame.rgb_path).filename();
-  if (mask_path == cached_mask_path_) return cached_mask_;
-  cv::Mat mask = io::ReadImage(mask_path, cv::IMREAD_GRAYSCALE, "moving mask");
+const cv::Mat& KeypointExclusion::ReadMask(const std::filesystem::path& folder, const core::RgbdFrame& frame,
+                                           const char* what, CachedMask& cache) {
+  // A mask has the colour image's name: mask/<t>.png, people/<t>.png beside rgb/<t>.png.
+  const std::filesystem::path path = folder / std::filesystem::path(frame.rgb_path).filename();
+  if (path == cache.path) return cache.mask;
+  cv::Mat mask = io::ReadImage(path, cv::IMREAD_GRAYSCALE, what);
   if (mask.size() != frame.rgb.size()) {
-    throw core::InputError::InFile(mask_path, fmt::format("is {}×{}, the frame {}×{}", mask.cols, mask.rows,
-                                                          frame.rgb.cols, frame.rgb.rows));
+    throw core::InputError::InFile(path, fmt::format("is {}×{}, the frame {}×{}", mask.cols, mask.rows,
+                                                     frame.rgb.cols, frame.rgb.rows));
   }
-  cached_mask_ = std::move(mask);
-  cached_mask_path_ = mask_path;
-  return cached_mask_;
+  cache.mask = std::move(mask);
+  cache.path = path;
+  return cache.mask;
+}
+
+const cv::Mat& KeypointExclusion::MovingMask(const core::RgbdFrame& frame) const {
+  return ReadMask(mask_folder_, frame, "moving mask", moving_);
 }
 
 ExclusionCounts KeypointExclusion::Score(const core::RgbdFrame& frame, std::span<const cv::KeyPoint> keypoints,
                                          std::span<const std::uint8_t> keep) const {
   const cv::Mat& mask = MovingMask(frame);
+  const cv::Mat no_people;
+  const cv::Mat& people = ScoresStillPeople() ? ReadMask(people_folder_, frame, "people mask", people_) : no_people;
   ExclusionCounts counts;
   for (std::size_t i = 0; i < keypoints.size(); ++i) {
     const bool kept = keep[i] != 0;
     if (OnMask(mask, keypoints[i])) {
       ++(kept ? counts.moving_kept : counts.moving_dropped);
+    } else if (kept) {
+      ++counts.static_kept;
     } else {
-      ++(kept ? counts.static_kept : counts.static_dropped);
+      ++counts.static_dropped;
+      if (!HasValidDepth(frame.depth, keypoints[i])) {
+        ++counts.static_dropped_without_depth;
+      } else if (OnMask(people, keypoints[i])) {  // a person, yet static: standing still
+        ++counts.static_dropped_on_still_people;
+      }
     }
   }
   return counts;

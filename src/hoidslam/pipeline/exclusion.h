@@ -5,7 +5,8 @@
 // memory across frames (hoid/hoidplus.h) and turns on the SLAM core's safety net; in mode `oracle` the keypoints on the
 // sequence's ground-truth moving-pixel mask (`mask/` of a synthetic sequence) are dropped instead — the upper
 // bound of what any filter can do. On a sequence with masks, every mode is also scored against them: how many of
-// the keypoints on moving things were kept (leaked) and how many static ones were dropped (wasted).
+// the keypoints on moving things were kept (leaked) and how many static ones were dropped (wasted), and of the
+// wasted ones how many the rules of hoidplus drop anyway (no depth; a person standing still, from `people/`).
 
 #include <cstdint>
 #include <filesystem>
@@ -54,6 +55,12 @@ struct ExclusionCounts {
   std::size_t moving_dropped = 0;
   std::size_t static_kept = 0;
   std::size_t static_dropped = 0;  // wasted: on the static world, yet dropped
+  // Of those, the ones the rules of hoidplus (docs/hoidplus.md) drop whatever its depth test does, each counted
+  // once: keypoints without valid depth (inside a dynamic box they stay dropped) and, with depth, people standing
+  // still (static in the moving mask, yet a person stays excluded). The rest was dropped although its depth could
+  // have set it apart.
+  std::size_t static_dropped_without_depth = 0;
+  std::size_t static_dropped_on_still_people = 0;  // with valid depth; 0 unless the sequence has people/ masks
 
   // Shares in [0, 1]; 0 when there is nothing to share.
   double Leaked() const;
@@ -90,7 +97,11 @@ class KeypointExclusion {
 
   // Whether the sequence has ground-truth moving masks to score against.
   bool CanScore() const { return !mask_folder_.empty(); }
-  // `keep` (from Mark) against the frame's moving mask. Requires CanScore(); throws like Mark for a bad mask.
+  // Whether it also has people masks (people/, 255 where a person is drawn, moving or not), so that Score counts
+  // static_dropped_on_still_people.
+  bool ScoresStillPeople() const { return !people_folder_.empty(); }
+  // `keep` (from Mark) against the frame's moving mask, and its depth (valid: hoid::IsValidDepth at the pixel the
+  // keypoint rounds to). Requires CanScore(); throws like Mark for a bad mask or people mask.
   ExclusionCounts Score(const core::RgbdFrame& frame, std::span<const cv::KeyPoint> keypoints,
                         std::span<const std::uint8_t> keep) const;
   // The frame's ground-truth moving mask (mask/<colour file name>, non-zero = moving). Requires CanScore(); throws
@@ -99,11 +110,21 @@ class KeypointExclusion {
   const cv::Mat& MovingMask(const core::RgbdFrame& frame) const;
 
  private:
+  // The last mask read from one folder (one KeypointExclusion per run: not shared across threads).
+  struct CachedMask {
+    std::filesystem::path path;
+    cv::Mat mask;
+  };
+  // <folder>/<colour file name>, read once; throws like MovingMask, naming the mask `what`.
+  static const cv::Mat& ReadMask(const std::filesystem::path& folder, const core::RgbdFrame& frame,
+                                 const char* what, CachedMask& cache);
+
   ExclusionOptions options_;
   std::optional<hoid::HoidPlusFilter> plus_;  // mode hoidplus
-  std::filesystem::path mask_folder_;  // empty when the sequence has no masks
-  mutable std::filesystem::path cached_mask_path_;  // one KeypointExclusion per run: not shared across threads
-  mutable cv::Mat cached_mask_;
+  std::filesystem::path mask_folder_;    // empty when the sequence has no masks
+  std::filesystem::path people_folder_;  // empty when it has no people masks (or no moving masks)
+  mutable CachedMask moving_;
+  mutable CachedMask people_;
 };
 
 }  // namespace hoidslam::pipeline

@@ -182,6 +182,46 @@ TEST(KeypointExclusion, ScoresAnyModeAgainstTheMovingMask) {
   EXPECT_DOUBLE_EQ(total.Wasted(), 1.0 / 6.0);
 }
 
+TEST(KeypointExclusion, SplitsTheWastedKeypointsIntoNoDepthStillPeopleAndTheRest) {
+  testing::TempDir dir;
+  for (const char* folder : {"mask", "people"}) std::filesystem::create_directories(dir / folder);
+  cv::Mat mask(480, 640, CV_8UC1, cv::Scalar(0));
+  mask(cv::Rect(140, 190, 20, 20)).setTo(255);  // the person at (150, 200) walks
+  cv::imwrite((dir / "mask" / "1.000000.png").string(), mask);
+  cv::Mat people = mask.clone();
+  people(cv::Rect(490, 90, 20, 20)).setTo(255);  // a person who stands still where the tv's box is
+  cv::imwrite((dir / "people" / "1.000000.png").string(), people);
+  core::RgbdFrame frame = Frame();
+  frame.depth.at<float>(205, 255) = 0.0F;  // the cup's keypoint: no depth
+
+  ExclusionOptions options;
+  SetFilterMode("hoid2d", options);
+  KeypointExclusion exclusion(options, dir.path());
+  ASSERT_TRUE(exclusion.ScoresStillPeople());
+  const std::vector<cv::KeyPoint> keypoints = {kKeypoints[0], kKeypoints[1], kKeypoints[2], kKeypoints[3],
+                                               cv::KeyPoint(120, 120, 31)};  // the wall in the person's box
+  const std::vector<std::uint8_t> keep = {1, 0, 0, 0, 0};  // everything in a box dropped
+  const ExclusionCounts counts = exclusion.Score(frame, keypoints, keep);
+  EXPECT_EQ(counts.moving_dropped, 1U);
+  EXPECT_EQ(counts.static_kept, 1U);
+  EXPECT_EQ(counts.static_dropped, 3U);
+  EXPECT_EQ(counts.static_dropped_without_depth, 1U);    // the cup
+  EXPECT_EQ(counts.static_dropped_on_still_people, 1U);  // the person standing still
+  ExclusionCounts total;
+  total += counts;
+  total += counts;
+  EXPECT_EQ(total.static_dropped_without_depth, 2U);
+  EXPECT_EQ(total.static_dropped_on_still_people, 2U);
+
+  // Without people masks only the keypoints without depth are told apart.
+  std::filesystem::remove_all(dir / "people");
+  const KeypointExclusion unscored(options, dir.path());
+  EXPECT_FALSE(unscored.ScoresStillPeople());
+  const ExclusionCounts without = unscored.Score(frame, keypoints, keep);
+  EXPECT_EQ(without.static_dropped_without_depth, 1U);
+  EXPECT_EQ(without.static_dropped_on_still_people, 0U);
+}
+
 TEST(KeypointExclusion, WithoutMasksThereIsNothingToScore) {
   ExclusionOptions options;
   SetFilterMode("hoid2d", options);

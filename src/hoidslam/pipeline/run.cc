@@ -212,6 +212,7 @@ RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detec
   RunSummary summary;
   summary.times.reserve(total);
   if (exclusion.CanScore()) summary.exclusion.emplace();
+  summary.still_people_scored = exclusion.ScoresStillPeople();
   // A paced replay decodes its first frames before the run's clock starts, as a camera is ready before it streams.
   std::optional<PacedReplay> paced;
   if (realtime.pace) paced.emplace(sequence, total, realtime.preload_megabytes << 20);
@@ -264,7 +265,11 @@ RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detec
       entry["exclusion"] = {{"moving_kept", counts.moving_kept},
                             {"moving_dropped", counts.moving_dropped},
                             {"static_kept", counts.static_kept},
-                            {"static_dropped", counts.static_dropped}};
+                            {"static_dropped", counts.static_dropped},
+                            {"static_dropped_without_depth", counts.static_dropped_without_depth}};
+      if (exclusion.ScoresStillPeople()) {
+        entry["exclusion"]["static_dropped_on_still_people"] = counts.static_dropped_on_still_people;
+      }
     }
     if (IsSnapshot(index, total, options.snapshots)) {
       WriteSnapshot(folder / "snapshots" / fmt::format("{:06d}.jpg", index), frame, boxes, features.keypoints, keep);

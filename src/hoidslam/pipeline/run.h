@@ -96,6 +96,7 @@ struct RunSummary {
   std::size_t boxes_grown = 0;                 // late boxes grown, with too few keypoint matches
   double seconds = 0.0;              // wall-clock time of the frame loop, less a paced replay's decoding holds
   std::optional<ExclusionCounts> exclusion;  // over all frames, when the sequence has ground-truth moving masks
+  bool still_people_scored = false;  // it also has people masks: exclusion's static_dropped_on_still_people counts
   bool interrupted = false;          // stopped early by the caller; the outputs hold the frames done
 };
 

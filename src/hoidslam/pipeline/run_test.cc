@@ -106,12 +106,18 @@ TEST(RunSequence, TracksEveryFrameAndWritesCompleteOutputs) {
   EXPECT_GT(summary.exclusion->moving_dropped, 0U);
   EXPECT_LT(summary.exclusion->Leaked(), 0.2);  // ground-truth boxes cover the people
   EXPECT_LT(summary.exclusion->Wasted(), 0.2);
+  EXPECT_TRUE(summary.still_people_scored);  // the sequence has people masks
+  EXPECT_LE(summary.exclusion->static_dropped_without_depth + summary.exclusion->static_dropped_on_still_people,
+            summary.exclusion->static_dropped);
   std::size_t logged_dropped = 0;
+  std::size_t logged_on_still_people = 0;
   for (const auto& entry : log) {
     logged_dropped += entry["exclusion"]["moving_dropped"].get<std::size_t>() +
                       entry["exclusion"]["static_dropped"].get<std::size_t>();
+    logged_on_still_people += entry["exclusion"]["static_dropped_on_still_people"].get<std::size_t>();
   }
   EXPECT_EQ(logged_dropped, summary.keypoints_dropped);
+  EXPECT_EQ(logged_on_still_people, summary.exclusion->static_dropped_on_still_people);
 
   // Six annotated frames in the middles of six equal parts of the run.
   std::vector<std::string> snapshots;
@@ -197,11 +203,12 @@ TEST(RunSequenceRealTime, JudgesEachFrameByTheNewestDetectionsCarriedToIt) {
   }
   EXPECT_LE(summary.detector_failures, 1U);  // frame 3's failure is seen only if the detector took frame 3
   EXPECT_EQ(io::ReadTumTrajectory(dir / "out" / "trajectory.txt").size(), summary.tracked);
-  // When tracking a frame takes well under the detector's 60 ms (always in a Release build, not under the slow
-  // ThreadSanitizer build, which drops most frames), every frame after the first gets the detections of the one
-  // before, carried by their keypoints, and they still cover the people.
+  // When tracking a frame takes well under the detector's 60 ms (in a Release build, not under the slow
+  // ThreadSanitizer build, which drops most frames), the frames after the first get the detections of the one
+  // before, carried by their keypoints, and they still cover the people. On a busy machine a frame whose feature
+  // extraction outlasts the detector may find its own detections ready: a few such frames are allowed.
   if (summary.dropped == 0) {
-    EXPECT_EQ(late, 39U);
+    EXPECT_GE(late, 35U);
     EXPECT_GT(summary.boxes_carried_by_keypoints, 0U);
     ASSERT_TRUE(summary.exclusion.has_value());
     EXPECT_LT(summary.exclusion->Leaked(), 0.2);

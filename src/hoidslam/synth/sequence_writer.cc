@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <functional>
 #include <mutex>
 #include <optional>
 #include <nlohmann/json.hpp>
@@ -114,6 +115,28 @@ void WriteDetections(const fs::path& file, const std::string& sequence, const st
   writer.Commit();
 }
 
+// 255 where the instance drawn is one `marked` picks, else 0 (CV_8U).
+cv::Mat InstanceMask(const cv::Mat& instance, const SceneSnapshot& snapshot,
+                     const std::function<bool(const SceneInstance&)>& marked) {
+  CV_Assert(instance.type() == CV_32S);
+  int max_id = 0;
+  for (const SceneInstance& s : snapshot.instances) max_id = std::max(max_id, s.id);
+  std::vector<unsigned char> value(static_cast<std::size_t>(max_id) + 1, 0);
+  for (const SceneInstance& s : snapshot.instances) {
+    if (marked(s)) value[static_cast<std::size_t>(s.id)] = 255;
+  }
+  cv::Mat mask(instance.size(), CV_8U);
+  for (int v = 0; v < instance.rows; ++v) {
+    const int* in = instance.ptr<int>(v);
+    unsigned char* out = mask.ptr<unsigned char>(v);
+    for (int u = 0; u < instance.cols; ++u) {
+      const int id = in[u];
+      out[u] = id > kNoInstance && id <= max_id ? value[static_cast<std::size_t>(id)] : 0;
+    }
+  }
+  return mask;
+}
+
 }  // namespace
 
 void SynthOptions::Check() const {
@@ -178,23 +201,11 @@ std::vector<core::Detection> GroundTruthBoxes(const cv::Mat& instance, const Sce
 }
 
 cv::Mat MovingMask(const cv::Mat& instance, const SceneSnapshot& snapshot) {
-  CV_Assert(instance.type() == CV_32S);
-  int max_id = 0;
-  for (const SceneInstance& s : snapshot.instances) max_id = std::max(max_id, s.id);
-  std::vector<unsigned char> moving(static_cast<std::size_t>(max_id) + 1, 0);
-  for (const SceneInstance& s : snapshot.instances) {
-    if (s.moving) moving[static_cast<std::size_t>(s.id)] = 255;
-  }
-  cv::Mat mask(instance.size(), CV_8U);
-  for (int v = 0; v < instance.rows; ++v) {
-    const int* in = instance.ptr<int>(v);
-    unsigned char* out = mask.ptr<unsigned char>(v);
-    for (int u = 0; u < instance.cols; ++u) {
-      const int id = in[u];
-      out[u] = id > kNoInstance && id <= max_id ? moving[static_cast<std::size_t>(id)] : 0;
-    }
-  }
-  return mask;
+  return InstanceMask(instance, snapshot, [](const SceneInstance& s) { return s.moving; });
+}
+
+cv::Mat PeopleMask(const cv::Mat& instance, const SceneSnapshot& snapshot) {
+  return InstanceMask(instance, snapshot, [](const SceneInstance& s) { return s.label == "person"; });
 }
 
 SynthResult WriteSequence(const Scenario& scenario, const SynthOptions& options) {
@@ -212,7 +223,7 @@ SynthResult WriteSequence(const Scenario& scenario, const SynthOptions& options)
   const core::CameraIntrinsics& camera = renderer.intrinsics();
 
   std::error_code error;
-  for (const char* sub : {"rgb", "depth", "mask"}) {
+  for (const char* sub : {"rgb", "depth", "mask", "people"}) {
     if (!error) fs::create_directories(output.temporary() / sub, error);
   }
   if (error) throw core::InputError::InFile(output.temporary(), "cannot create the output folder: " + error.message());
@@ -254,6 +265,7 @@ SynthResult WriteSequence(const Scenario& scenario, const SynthOptions& options)
                  ApplyDepthNoise(rendered.depth, scenario.sensor_noise, FrameSeed(scenario.seed, i, kDepthNoise)),
                  kNoisyPng);
         WritePng(output.temporary() / "mask" / (t + ".png"), MovingMask(rendered.instance, snapshot), kMaskPng);
+        WritePng(output.temporary() / "people" / (t + ".png"), PeopleMask(rendered.instance, snapshot), kMaskPng);
         if (progress) {
           const std::lock_guard lock(progress_mutex);
           progress->Update(++done);

@@ -5,6 +5,7 @@
 //   <out>/rgb/<t>.png          colour, 640x480, with sensor noise and blur
 //   <out>/depth/<t>.png        16-bit depth, 5000 per metre, Kinect-like noise and holes
 //   <out>/mask/<t>.png         8-bit, 255 where the pixel belongs to something moving at that instant
+//   <out>/people/<t>.png       8-bit, 255 where a person is drawn, moving or not (a still one is static in mask/)
 //   <out>/rgb.txt, depth.txt, associations.txt   TUM lists (`%.6f` timestamps)
 //   <out>/groundtruth.txt      camera T_wc per frame, TUM format
 //   <out>/detections.jsonl     boxes of the visible parts of people and objects (with the detector noise)
@@ -66,5 +67,8 @@ std::vector<core::Detection> GroundTruthBoxes(const cv::Mat& instance, const Sce
 
 // 255 where the instance drawn is moving in `snapshot`, else 0 (CV_8U).
 cv::Mat MovingMask(const cv::Mat& instance, const SceneSnapshot& snapshot);
+
+// 255 where the instance drawn is a person in `snapshot`, moving or not, else 0 (CV_8U).
+cv::Mat PeopleMask(const cv::Mat& instance, const SceneSnapshot& snapshot);
 
 }  // namespace hoidslam::synth

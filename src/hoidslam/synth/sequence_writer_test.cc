@@ -131,7 +131,8 @@ TEST(SequenceWriter, OneSeedGivesByteIdenticalFilesWhateverTheThreads) {
   WriteSequence(scenario, Options(temp / "b" / "seq", 1));
   const auto a = ReadAllFiles(temp / "a" / "seq");
   const auto b = ReadAllFiles(temp / "b" / "seq");
-  ASSERT_EQ(a.size(), 3U * 10U + 8U);  // rgb, depth, mask per frame; 3 lists, gt, 2 detections, events, scenario
+  ASSERT_EQ(a.size(), 4U * 10U + 8U);  // rgb, depth, mask, people per frame; 3 lists, gt, 2 detections, events,
+                                       // scenario
   for (const auto& [name, bytes] : a) {
     ASSERT_TRUE(b.contains(name)) << name;
     EXPECT_TRUE(bytes == b.at(name)) << name << " differs";
@@ -182,7 +183,7 @@ TEST(SequenceWriter, BoxesEncloseTheVisiblePixelsOfTheirInstance) {
   }
 }
 
-TEST(SequenceWriter, MasksAreNonEmptyExactlyWhileSomethingVisibleMoves) {
+TEST(SequenceWriter, MasksMarkWhatMovesAndPeopleMasksMarkThePersonStillOrNot) {
   testing::TempDir temp;
   // The walker crosses the view for about a second and then stands still in it (10 Hz, 20 frames).
   const Scenario scenario = fixtures::SmallScenario(fixtures::kWalkThenStop, 20);
@@ -195,6 +196,8 @@ TEST(SequenceWriter, MasksAreNonEmptyExactlyWhileSomethingVisibleMoves) {
   for (std::size_t i = 0; i < frames.size(); ++i) {
     const cv::Mat mask =
         cv::imread((temp / "seq" / "mask" / sequence.entry(i).rgb_path.filename()).string(), cv::IMREAD_UNCHANGED);
+    const cv::Mat people =
+        cv::imread((temp / "seq" / "people" / sequence.entry(i).rgb_path.filename()).string(), cv::IMREAD_UNCHANGED);
     bool visible_moving = false;
     for (const SceneInstance& instance : frames[i].snapshot.instances) {
       if (instance.moving && cv::countNonZero(frames[i].rendered.instance == instance.id) > 0) visible_moving = true;
@@ -204,10 +207,13 @@ TEST(SequenceWriter, MasksAreNonEmptyExactlyWhileSomethingVisibleMoves) {
     EXPECT_EQ(cv::countNonZero(mask) > 0, visible_moving) << "frame " << i;
     EXPECT_EQ(visible_moving, world_moving) << "frame " << i;  // the walker is in view throughout
     // The mask is exactly the moving instance's pixels.
+    const int walker = *world.InstanceId("walker");
     if (visible_moving) {
-      const int walker = *world.InstanceId("walker");
       EXPECT_EQ(cv::countNonZero(mask != (frames[i].rendered.instance == walker)), 0);
     }
+    // The people mask is the walker's pixels whether they move or stand still.
+    EXPECT_GT(cv::countNonZero(people), 0) << "frame " << i;
+    EXPECT_EQ(cv::countNonZero(people != (frames[i].rendered.instance == walker)), 0) << "frame " << i;
     (world_moving ? moving_frames : still_frames) += 1;
   }
   EXPECT_GE(moving_frames, 5);
@@ -217,8 +223,10 @@ TEST(SequenceWriter, MasksAreNonEmptyExactlyWhileSomethingVisibleMoves) {
 TEST(SequenceWriter, MasksAreEmptyWithoutPeople) {
   testing::TempDir temp;
   WriteSequence(fixtures::SmallScenario("[]", 8, "xyz"), Options(temp / "seq"));
-  for (const auto& entry : fs::directory_iterator(temp / "seq" / "mask")) {
-    EXPECT_EQ(cv::countNonZero(cv::imread(entry.path().string(), cv::IMREAD_UNCHANGED)), 0) << entry.path();
+  for (const char* folder : {"mask", "people"}) {
+    for (const auto& entry : fs::directory_iterator(temp / "seq" / folder)) {
+      EXPECT_EQ(cv::countNonZero(cv::imread(entry.path().string(), cv::IMREAD_UNCHANGED)), 0) << entry.path();
+    }
   }
   EXPECT_EQ(ReadAllFiles(temp / "seq").at("events.jsonl"), "");
 }
