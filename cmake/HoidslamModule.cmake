@@ -19,6 +19,9 @@ function(hoidslam_module name)
     target_link_libraries(${target} PUBLIC hoidslam_${dep})
   endforeach()
   target_link_libraries(${target} PUBLIC ${M_LIBS})
+  if(HOIDSLAM_BUILD_FUZZERS AND name IN_LIST HOIDSLAM_FUZZ_COVERAGE_MODULES)
+    target_compile_options(${target} PRIVATE ${HOIDSLAM_FUZZ_COVERAGE_FLAGS})  # cmake/HoidslamFuzzing.cmake
+  endif()
 
   if(HOIDSLAM_BUILD_TESTS AND M_TESTS)
     add_executable(${name}_tests ${M_TESTS})
@@ -38,7 +41,7 @@ function(hoidslam_module name)
   endif()
 endfunction()
 
-# hoidslam_threaded_tests(<test executable> TEST_PREFIX <prefix>)
+# hoidslam_threaded_tests(<test executable> TEST_PREFIX <prefix> [PROPERTIES <CTest test properties...>])
 #
 # Registers a test executable whose tests run more than one of hoidslam's threads (tracking and local mapping, the
 # detector thread, the synthetic sequence writer's workers), directly or through the hoidslam binary it starts.
@@ -46,7 +49,8 @@ endfunction()
 # builds that target and runs `ctest -L threaded` under ThreadSanitizer. A new test of threaded code goes into one of
 # these executables (slam_tests, pipeline_tests, synth_tests, cli_tests), or its executable is registered here.
 function(hoidslam_threaded_tests target)
-  cmake_parse_arguments(T "" "TEST_PREFIX" "" ${ARGN})
-  gtest_discover_tests(${target} TEST_PREFIX "${T_TEST_PREFIX}" DISCOVERY_TIMEOUT 60 PROPERTIES LABELS threaded)
+  cmake_parse_arguments(T "" "TEST_PREFIX" "PROPERTIES" ${ARGN})
+  gtest_discover_tests(${target} TEST_PREFIX "${T_TEST_PREFIX}" DISCOVERY_TIMEOUT 60
+                       PROPERTIES LABELS threaded ${T_PROPERTIES})
   add_dependencies(threaded_tests ${target})
 endfunction()

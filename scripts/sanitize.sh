@@ -1,22 +1,25 @@
 #!/usr/bin/env bash
-# Builds hoidslam with GCC's sanitizers and runs its tests under them.
+# Builds hoidslam with clang's sanitizers and runs its tests under them.
 #
 #   scripts/sanitize.sh asan     AddressSanitizer + UndefinedBehaviorSanitizer (leaks included): the whole test suite
 #   scripts/sanitize.sh tsan     ThreadSanitizer: the tests labelled `threaded` (ctest -L threaded), those that run
 #                                hoidslam's own threads (see hoidslam_threaded_tests in cmake/HoidslamModule.cmake)
-#   scripts/sanitize.sh [all]    both, one after the other (CI runs this after scripts/test.sh)
+#   scripts/sanitize.sh [all]    both: builds the two, then runs the two test runs at once, each on a CPU of its own
+#                                (with one CPU, one after the other). CI runs this after scripts/test.sh.
 #
 # Further arguments go to ctest, e.g. `scripts/sanitize.sh tsan -R CliRun`. Build folders: build-asan/ and
 # build-tsan/ in the checkout ($HOIDSLAM_ASAN_BUILD_DIR, $HOIDSLAM_TSAN_BUILD_DIR); the builds are incremental.
-# Needs the packages scripts/setup.sh installs (GCC brings the sanitizer runtimes).
+# Needs the packages scripts/setup.sh installs (clang-14 with its sanitizer runtimes, lld-14, llvm-14).
+#
+# How the builds are configured is in scripts/sanitizers/builds.sh: clang, a unity build, lld, -O1 with line
+# tables, no benchmark programs. The ASan build also makes the libFuzzer targets, so scripts/fuzz.sh (which uses
+# the same folder) builds nothing more; the TSan build makes only the executables its tests run. The TSan tests run
+# on one CPU (see below), the ASan tests on all the others (`all`) or on all (`asan`), two tests at a time.
 #
 # Any sanitizer report fails the run, whichever process wrote it: a test, or a hoidslam process a test started
 # (whose exit status the test may not look at). Reports are written to <build>/sanitizer-reports/ and printed at
 # the end. Undefined behaviour aborts at once (-fno-sanitize-recover). Findings in third-party libraries are
 # suppressed in scripts/sanitizers/, each entry with the reason it is not hoidslam's.
-#
-# To keep CI short the builds are -O1 with line tables only (-g1), without the benchmark programs, and the TSan
-# build makes only the executables its tests run. The TSan tests run on one CPU (see below).
 set -euo pipefail
 
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -30,26 +33,32 @@ case "$which" in
     ;;
 esac
 suppressions="$repo/scripts/sanitizers"
+# shellcheck source=sanitizers/builds.sh
+source "$suppressions/builds.sh"
+# Stack traces with file and line: llvm-14 ships llvm-symbolizer under its own folder only.
+[[ -d /usr/lib/llvm-14/bin ]] && export PATH="/usr/lib/llvm-14/bin:$PATH"
 
-# sanitize <name> <build folder> <-fsanitize flags> <build target> <command prefix for ctest> [ctest arguments...]
-sanitize() {
-  local name="$1" build="$2" flags="$3 -fno-omit-frame-pointer" target="$4" launcher="$5"
-  shift 5
+# build <name> <build folder> <build target>
+build() {
+  local name="$1" build="$2" target="$3"
   echo "== hoidslam sanitize: $name build in $build"
-  cmake -S "$repo" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DCMAKE_CXX_FLAGS="$flags" \
-    -DCMAKE_EXE_LINKER_FLAGS="$flags" -DHOIDSLAM_BUILD_BENCHMARKS=OFF
+  "hoidslam_configure_$name" "$repo" "$build"
   cmake --build "$build" -j "$(nproc)" --target "$target"
+}
 
+# run_tests <name> <build folder> <CPU list for taskset> [ctest arguments...]: the tests, then the reports.
+run_tests() {
+  local name="$1" build="$2" cpus="$3"
+  shift 3
   local reports="$build/sanitizer-reports"
   rm -rf "$reports"
   mkdir -p "$reports"
-  export ASAN_OPTIONS="log_path=$reports/asan:detect_leaks=1:check_initialization_order=1"
-  export UBSAN_OPTIONS="log_path=$reports/ubsan:print_stacktrace=1"
-  export TSAN_OPTIONS="log_path=$reports/tsan:suppressions=$suppressions/tsan.supp:second_deadlock_stack=1"
-  echo "== hoidslam sanitize: $name tests"
   local status=0
-  $launcher ctest --test-dir "$build" --output-on-failure -j "$(nproc)" "$@" || status=$?
+  echo "== hoidslam sanitize: $name tests on CPU $cpus"
+  ASAN_OPTIONS="log_path=$reports/asan:detect_leaks=1:check_initialization_order=1" \
+    UBSAN_OPTIONS="log_path=$reports/ubsan:print_stacktrace=1" \
+    TSAN_OPTIONS="log_path=$reports/tsan:suppressions=$suppressions/tsan.supp:second_deadlock_stack=1" \
+    taskset -c "$cpus" ctest --test-dir "$build" --output-on-failure -j 2 "$@" || status=$?
   if compgen -G "$reports/*" >/dev/null; then
     for report in "$reports"/*; do
       echo "== $name report $report"
@@ -57,23 +66,56 @@ sanitize() {
     done
     status=1
   fi
-  ((status == 0)) && echo "== hoidslam sanitize: $name clean"
+  if ((status == 0)); then
+    echo "== hoidslam sanitize: $name clean"
+  else
+    echo "== hoidslam sanitize: $name FAILED" >&2
+  fi
   return "$status"
 }
 
+asan_build="${HOIDSLAM_ASAN_BUILD_DIR:-$repo/build-asan}"
+tsan_build="${HOIDSLAM_TSAN_BUILD_DIR:-$repo/build-tsan}"
+# The CPUs this script may use. The TSan tests run on one CPU: OpenCV's parallel_for_ hands work to TBB's threads,
+# and TBB is not instrumented, so ThreadSanitizer cannot see that parallel_for_ waits for them: it would report
+# every loop body (the ORB extractor's pyramid levels) as racing with its caller. On one CPU, TBB and OpenCV start
+# no threads of their own, while hoidslam's threads still run interleaved; ThreadSanitizer judges the
+# synchronisation between accesses, not whether they happened at the same moment, so it checks them as it would
+# on many CPUs. (OPENCV_FOR_THREADS_NUM=1 does not stop OpenCV 4.6's TBB backend from starting its threads.)
+mapfile -t cpus < <(taskset -cp $$ | sed 's/.*: *//' | tr ',' '\n' |
+  awk -F- '{ if (NF == 2) { for (c = $1; c <= $2; c++) print c } else print $1 }')
+all_cpus="$(IFS=,; echo "${cpus[*]}")"
+tsan_cpu="${cpus[0]}"
+
 status=0
-if [[ "$which" == asan || "$which" == all ]]; then
-  sanitize asan "${HOIDSLAM_ASAN_BUILD_DIR:-$repo/build-asan}" "-fsanitize=address,undefined -fno-sanitize-recover=all" \
-    all "" "$@" || status=1
-fi
-if [[ "$which" == tsan || "$which" == all ]]; then
-  # On one CPU. OpenCV's parallel_for_ hands work to TBB's threads, and TBB is not instrumented, so ThreadSanitizer
-  # cannot see that parallel_for_ waits for them: it would report every loop body (the ORB extractor's pyramid
-  # levels) as racing with its caller. On one CPU, TBB and OpenCV start no threads of their own, while hoidslam's
-  # threads still run interleaved; ThreadSanitizer judges the synchronisation between accesses, not whether they
-  # happened at the same moment, so it checks them as it would on many CPUs.
-  first_cpu="$(taskset -cp $$ | sed 's/.*: *//; s/[-,].*//')"
-  sanitize tsan "${HOIDSLAM_TSAN_BUILD_DIR:-$repo/build-tsan}" "-fsanitize=thread" threaded_tests \
-    "taskset -c $first_cpu" -L threaded "$@" || status=1
-fi
+case "$which" in
+  asan)
+    build asan "$asan_build" all
+    run_tests asan "$asan_build" "$all_cpus" "$@" || status=1
+    ;;
+  tsan)
+    build tsan "$tsan_build" threaded_tests
+    run_tests tsan "$tsan_build" "$tsan_cpu" -L threaded "$@" || status=1
+    ;;
+  all)
+    build asan "$asan_build" all
+    build tsan "$tsan_build" threaded_tests
+    if ((${#cpus[@]} > 1)); then
+      # The TSan tests use one CPU, so the ASan suite runs beside them on the others: on 2 CPUs this takes about
+      # as long as the longer of the two runs, not their sum (docs/testing.md). Each run's output is printed
+      # whole when it ends (the ASan run's first), not interleaved.
+      asan_cpus="$(IFS=,; echo "${cpus[*]:1}")"
+      tsan_log="$(mktemp)"
+      run_tests tsan "$tsan_build" "$tsan_cpu" -L threaded "$@" >"$tsan_log" 2>&1 &
+      tsan_pid=$!
+      run_tests asan "$asan_build" "$asan_cpus" "$@" || status=1
+      wait "$tsan_pid" || status=1
+      cat "$tsan_log"
+      rm -f "$tsan_log"
+    else
+      run_tests asan "$asan_build" "$all_cpus" "$@" || status=1
+      run_tests tsan "$tsan_build" "$tsan_cpu" -L threaded "$@" || status=1
+    fi
+    ;;
+esac
 exit "$status"

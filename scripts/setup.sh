@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Sets up hoidslam on Debian 12 from nothing: installs the build dependencies from Debian's packages,
 # builds the Release binaries into build/, and runs the main job on data that needs no download. Chromium (the
-# report test opens the HTML report headless), GNU parallel (bench sweeps across cores or machines) and clang
-# with its sanitizer and libFuzzer runtimes (scripts/fuzz.sh) are Debian packages too.
+# report test opens the HTML report headless), GNU parallel (bench sweeps across cores or machines), and clang
+# with its sanitizer and libFuzzer runtimes and the lld linker (scripts/sanitize.sh, scripts/fuzz.sh) are Debian
+# packages too.
 #
 #   scripts/setup.sh            install + build + run the main job
 #   scripts/setup.sh --no-run   install + build only (used by CI and scripts/test.sh)
@@ -21,7 +22,8 @@ packages=(
   libcli11-dev nlohmann-json3-dev libspdlog-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   chromium parallel
-  clang-14 libclang-rt-14-dev llvm-14  # scripts/fuzz.sh: -fsanitize=fuzzer,address,undefined; llvm-symbolizer
+  # scripts/sanitize.sh and scripts/fuzz.sh: clang with the sanitizer and libFuzzer runtimes, llvm-symbolizer, lld
+  clang-14 libclang-rt-14-dev llvm-14 lld-14
 )
 
 missing=()

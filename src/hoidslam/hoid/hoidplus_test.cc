@@ -8,7 +8,9 @@
 
 #include "hoidslam/core/error.h"
 
-namespace hoidslam::hoid {
+// A namespace of this file's own: its helpers may share names with another test's of the module, which a
+// unity build (scripts/sanitize.sh) compiles into the same translation unit.
+namespace hoidslam::hoid::hoidplus_test {
 namespace {
 
 using core::Detection;
@@ -221,4 +223,4 @@ TEST(HoidPlusFilter, RejectsBadInput) {
 }
 
 }  // namespace
-}  // namespace hoidslam::hoid
+}  // namespace hoidslam::hoid::hoidplus_test

@@ -9,7 +9,9 @@
 #include "support/temp_dir.h"
 #include "support/text_file.h"
 
-namespace hoidslam::io {
+// A namespace of this file's own: its helpers may share names with another test's of the module, which a
+// unity build (scripts/sanitize.sh) compiles into the same translation unit.
+namespace hoidslam::io::trajectory_file_test {
 namespace {
 
 using ::hoidslam::testing::WriteText;
@@ -89,4 +91,4 @@ TEST(ReadTumTrajectory, ReadsRealTumGroundTruthWithItsRepeatedTimestamp) {
 }
 
 }  // namespace
-}  // namespace hoidslam::io
+}  // namespace hoidslam::io::trajectory_file_test

@@ -22,7 +22,9 @@
 #include "support/temp_dir.h"
 #include "support/text_file.h"
 
-namespace hoidslam::pipeline {
+// A namespace of this file's own: its helpers may share names with another test's of the module, which a
+// unity build (scripts/sanitize.sh) compiles into the same translation unit.
+namespace hoidslam::pipeline::dynamic_mask_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -431,4 +433,4 @@ TEST(ExportMasks, AgreesWithRunsExclusionKeypointByKeypoint) {
 }
 
 }  // namespace
-}  // namespace hoidslam::pipeline
+}  // namespace hoidslam::pipeline::dynamic_mask_test

@@ -13,7 +13,9 @@
 
 #include "hoidslam/report/test_markup.h"
 
-namespace hoidslam::report {
+// A namespace of this file's own: its helpers may share names with another test's of the module, which a
+// unity build (scripts/sanitize.sh) compiles into the same translation unit.
+namespace hoidslam::report::svg_plot_test {
 namespace {
 
 using ::testing::HasSubstr;
@@ -251,4 +253,4 @@ TEST(BarChart, RejectsSeriesWithTheWrongNumberOfValues) {
 }
 
 }  // namespace
-}  // namespace hoidslam::report
+}  // namespace hoidslam::report::svg_plot_test

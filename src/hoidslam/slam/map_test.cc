@@ -11,7 +11,9 @@
 #include "hoidslam/features/orb_extractor.h"
 #include "support/geometry.h"
 
-namespace hoidslam::slam {
+// A namespace of this file's own: its helpers may share names with another test's of the module, which a
+// unity build (scripts/sanitize.sh) compiles into the same translation unit.
+namespace hoidslam::slam::map_test {
 namespace {
 
 std::shared_ptr<const Sensor> MakeSensor() {
@@ -442,4 +444,4 @@ TEST_F(MapTest, PredictLevelFollowsTheScalePyramid) {
 }
 
 }  // namespace
-}  // namespace hoidslam::slam
+}  // namespace hoidslam::slam::map_test

@@ -19,7 +19,9 @@
 
 #include "hoidslam/slam/map.h"
 
-namespace hoidslam::slam {
+// A namespace of this file's own: its helpers may share names with another test's of the module, which a
+// unity build (scripts/sanitize.sh) compiles into the same translation unit.
+namespace hoidslam::slam::matcher_test {
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
@@ -424,4 +426,4 @@ TEST_F(ProjectIntoFrameTest, RejectsObliqueViews) {
 }
 
 }  // namespace
-}  // namespace hoidslam::slam
+}  // namespace hoidslam::slam::matcher_test

@@ -13,7 +13,9 @@
 #include "support/shared_data.h"
 #include "support/temp_dir.h"
 
-namespace hoidslam::synth {
+// A namespace of this file's own: its helpers may share names with another test's of the module, which a
+// unity build (scripts/sanitize.sh) compiles into the same translation unit.
+namespace hoidslam::synth::textures_test {
 namespace {
 
 TextureOptions Options(int size, std::uint64_t seed = 1) {
@@ -153,4 +155,4 @@ TEST(Textures, BadInputNamesTheFolderFileOrParameter) {
 }
 
 }  // namespace
-}  // namespace hoidslam::synth
+}  // namespace hoidslam::synth::textures_test

@@ -18,7 +18,6 @@ using Eigen::Vector2d;
 using Eigen::Vector3d;
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
-constexpr double kPi = std::numbers::pi;
 
 // Durations of the body motions, seconds.
 constexpr double kReachTime = 0.7;
@@ -64,7 +63,7 @@ class World::Planner {
       Cursor& c = cursors_[p];
       c.time = spec.enter_at;
       c.pose.position = spec.start;
-      c.pose.yaw = spec.facing_deg * kPi / 180.0;
+      c.pose.yaw = spec.facing_deg * std::numbers::pi / 180.0;
       world_.events_.push_back(
           {spec.enter_at, spec.name, "enter", "", std::nullopt, Vector3d(spec.start.x(), spec.start.y(), 0.0)});
     }
@@ -146,11 +145,11 @@ class World::Planner {
 
   void TurnTo(std::size_t p, double yaw) {
     const BodyPose& pose = cursors_[p].pose;
-    const double delta = std::abs(std::remainder(yaw - pose.yaw, 2.0 * kPi));
+    const double delta = std::abs(std::remainder(yaw - pose.yaw, 2.0 * std::numbers::pi));
     if (delta < 0.05) return;
     BodyPose b = pose;
     b.yaw = yaw;
-    b.gait_phase += kPi;  // one step on the spot; legs meet again at the end
+    b.gait_phase += std::numbers::pi;  // one step on the spot; legs meet again at the end
     b.gait_amount = 0.4;
     Move(p, std::max(0.3, delta / kTurnRate), b, true, true);
   }
@@ -178,7 +177,7 @@ class World::Planner {
     b.yaw = Heading(d);
     // Whole half strides, so that the legs are together when the walk ends.
     const double half_stride = 0.38 * Shape(p).height;
-    b.gait_phase += kPi * std::max(1.0, std::round(distance / half_stride));
+    b.gait_phase += std::numbers::pi * std::max(1.0, std::round(distance / half_stride));
     b.gait_amount = 1.0;
     cursors_[p].pose.gait_amount = 1.0;  // invisible while the legs are together, as at every segment boundary
     Move(p, distance / speed, b, true, false);
@@ -546,7 +545,7 @@ std::optional<World::PersonInstant> World::PersonState(std::size_t index, double
   if (segment == nullptr) {
     BodyPose pose;
     pose.position = person.spec.start;
-    pose.yaw = person.spec.facing_deg * kPi / 180.0;
+    pose.yaw = person.spec.facing_deg * std::numbers::pi / 180.0;
     return PersonInstant{pose, nullptr, 0.0, false};
   }
   if (time >= segment->t1) return PersonInstant{segment->b, segment, 1.0, false};  // done: at rest
