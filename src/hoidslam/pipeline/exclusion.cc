@@ -1,6 +1,7 @@
 #include "hoidslam/pipeline/exclusion.h"
 
 #include <cmath>
+#include <optional>
 
 #include <fmt/format.h>
 #include <opencv2/imgcodecs.hpp>
@@ -63,19 +64,24 @@ ExclusionCounts& ExclusionCounts::operator+=(const ExclusionCounts& other) {
 
 namespace {
 
+// The pixel of `image` the keypoint's position rounds to; nullopt outside the image.
+std::optional<cv::Point> PixelOf(const cv::Mat& image, const cv::KeyPoint& keypoint) {
+  const cv::Point pixel(static_cast<int>(std::lround(keypoint.pt.x)), static_cast<int>(std::lround(keypoint.pt.y)));
+  if (pixel.x < 0 || pixel.y < 0 || pixel.x >= image.cols || pixel.y >= image.rows) return std::nullopt;
+  return pixel;
+}
+
 // By the rule hoidplus drops by (hoid/foreground.h): the depth at the pixel the keypoint rounds to.
 bool HasValidDepth(const cv::Mat& depth, const cv::KeyPoint& keypoint) {
-  const int x = static_cast<int>(std::lround(keypoint.pt.x));
-  const int y = static_cast<int>(std::lround(keypoint.pt.y));
-  return x >= 0 && y >= 0 && x < depth.cols && y < depth.rows && hoid::IsValidDepth(depth.at<float>(y, x));
+  const std::optional<cv::Point> pixel = PixelOf(depth, keypoint);
+  return pixel && hoid::IsValidDepth(depth.at<float>(*pixel));
 }
 
 }  // namespace
 
 bool OnMask(const cv::Mat& mask, const cv::KeyPoint& keypoint) {
-  const int x = static_cast<int>(std::lround(keypoint.pt.x));
-  const int y = static_cast<int>(std::lround(keypoint.pt.y));
-  return x >= 0 && y >= 0 && x < mask.cols && y < mask.rows && mask.at<std::uint8_t>(y, x) != 0;
+  const std::optional<cv::Point> pixel = PixelOf(mask, keypoint);
+  return pixel && mask.at<std::uint8_t>(*pixel) != 0;
 }
 
 KeypointExclusion::KeypointExclusion(const ExclusionOptions& options, const std::filesystem::path& sequence_root,

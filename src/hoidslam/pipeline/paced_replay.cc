@@ -57,9 +57,8 @@ void PacedReplay::DecodeChunk(std::size_t first) {
   chunk_.clear();  // the frames taken or dropped so far are released first
   chunk_first_ = first;
   core::RgbdFrame first_frame = sequence_.LoadFrame(first);
-  const std::size_t count =
-      std::clamp<std::size_t>(memory_budget_bytes_ / std::max<std::size_t>(1, FrameBytes(first_frame)), 1,
-                              frames_ - first);
+  const std::size_t frame_bytes = std::max<std::size_t>(1, FrameBytes(first_frame));
+  const std::size_t count = std::clamp<std::size_t>(memory_budget_bytes_ / frame_bytes, 1, frames_ - first);
   chunk_.resize(count);
   chunk_[0] = std::move(first_frame);
 
@@ -86,7 +85,7 @@ void PacedReplay::DecodeChunk(std::size_t first) {
   }
   ++chunks_decoded_;
   spdlog::info("paced replay: frames {}-{} decoded ahead ({:.2f} GB in {:.1f} s){}", first, first + count - 1,
-               static_cast<double>(count * FrameBytes(chunk_[0])) / 1e9, clock.ElapsedMilliseconds() / 1000.0,
+               static_cast<double>(count * frame_bytes) / 1e9, clock.ElapsedMilliseconds() / 1000.0,
                first > 0 ? ", the camera's clock held meanwhile" : "");
 }
 
