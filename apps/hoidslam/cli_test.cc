@@ -14,6 +14,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "cli_test_support.h"
+#include "hoidslam/core/sanitizers.h"
 #include "support/shared_data.h"
 #include "support/temp_dir.h"
 #include "support/text_file.h"
@@ -28,14 +29,8 @@ namespace fs = std::filesystem;
 
 // Whether this build (and so the hoidslam binary the tests run) is instrumented by ThreadSanitizer, which makes
 // tracking many times slower.
-#if defined(__SANITIZE_THREAD__)
+#ifdef HOIDSLAM_THREAD_SANITIZER
 constexpr bool kThreadSanitizer = true;
-#elif defined(__has_feature)
-#if __has_feature(thread_sanitizer)
-constexpr bool kThreadSanitizer = true;
-#else
-constexpr bool kThreadSanitizer = false;
-#endif
 #else
 constexpr bool kThreadSanitizer = false;
 #endif

@@ -15,6 +15,8 @@
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "hoidslam/core/sanitizers.h"
+
 namespace hoidslam::features {
 namespace {
 
@@ -371,15 +373,7 @@ void OrbExtractor::Extract(const cv::Mat& gray, std::vector<cv::KeyPoint>& keypo
 // The build targets baseline x86-64, where __builtin_popcountll is a library call; a second copy compiled for
 // the POPCNT instruction is picked at load time on CPUs that have it (about 5× faster here). Not under
 // ThreadSanitizer: GCC's instruments the load-time picker (an ifunc resolver), which then runs before the
-// sanitizer's runtime has started and crashes every program at load. (GCC says __SANITIZE_THREAD__, clang
-// __has_feature(thread_sanitizer).)
-#if defined(__SANITIZE_THREAD__)
-#define HOIDSLAM_THREAD_SANITIZER 1
-#elif defined(__has_feature)
-#if __has_feature(thread_sanitizer)
-#define HOIDSLAM_THREAD_SANITIZER 1
-#endif
-#endif
+// sanitizer's runtime has started and crashes every program at load.
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && !defined(HOIDSLAM_THREAD_SANITIZER)
 __attribute__((target_clones("popcnt", "default")))
 #endif
