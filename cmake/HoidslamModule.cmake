@@ -3,13 +3,14 @@
 #   DEPENDS  <modules...>        other hoidslam modules this one may use (DESIGN.md layering)
 #   LIBS     <targets...>        third-party targets
 #   TESTS    <files...>          GoogleTest sources, built into <name>_tests and registered with CTest
-#   THREADED                     <name>_tests runs hoidslam's own threads: see hoidslam_threaded_tests below
+#   THREADED_TESTS <files...>    tests that run hoidslam's own threads, built into <name>_threaded_tests: see
+#                                hoidslam_threaded_tests below
 #   BENCHMARKS <files...>)       Google Benchmark sources, built into <name>_bench
 #
 # Each module is its own static library `hoidslam_<name>`, so the layering in DESIGN.md is enforced by the
 # link graph: a module can only include what it DEPENDS on.
 function(hoidslam_module name)
-  cmake_parse_arguments(M "THREADED" "" "SOURCES;DEPENDS;LIBS;TESTS;BENCHMARKS" ${ARGN})
+  cmake_parse_arguments(M "" "" "SOURCES;DEPENDS;LIBS;TESTS;THREADED_TESTS;BENCHMARKS" ${ARGN})
   set(target hoidslam_${name})
   add_library(${target} STATIC ${M_SOURCES})
   add_library(hoidslam::${name} ALIAS ${target})
@@ -23,15 +24,22 @@ function(hoidslam_module name)
     target_compile_options(${target} PRIVATE ${HOIDSLAM_FUZZ_COVERAGE_FLAGS})  # cmake/HoidslamFuzzing.cmake
   endif()
 
-  if(HOIDSLAM_BUILD_TESTS AND M_TESTS)
-    add_executable(${name}_tests ${M_TESTS})
-    target_compile_options(${name}_tests PRIVATE -Wall -Wextra)
-    target_link_libraries(${name}_tests PRIVATE ${target} hoidslam_test_support GTest::gtest_main GTest::gmock)
-    if(M_THREADED)
-      hoidslam_threaded_tests(${name}_tests TEST_PREFIX "${name}.")
-    else()
-      gtest_discover_tests(${name}_tests TEST_PREFIX "${name}." DISCOVERY_TIMEOUT 60)
-    endif()
+  if(HOIDSLAM_BUILD_TESTS)
+    foreach(kind IN ITEMS tests threaded_tests)
+      string(TOUPPER "${kind}" sources)
+      if(NOT M_${sources})
+        continue()
+      endif()
+      set(tests ${name}_${kind})
+      add_executable(${tests} ${M_${sources}})
+      target_compile_options(${tests} PRIVATE -Wall -Wextra)
+      target_link_libraries(${tests} PRIVATE ${target} hoidslam_test_support GTest::gtest_main GTest::gmock)
+      if(kind STREQUAL "threaded_tests")
+        hoidslam_threaded_tests(${tests} TEST_PREFIX "${name}.")
+      else()
+        gtest_discover_tests(${tests} TEST_PREFIX "${name}." DISCOVERY_TIMEOUT 60)
+      endif()
+    endforeach()
   endif()
 
   if(HOIDSLAM_BUILD_BENCHMARKS AND M_BENCHMARKS)
@@ -44,10 +52,11 @@ endfunction()
 # hoidslam_threaded_tests(<test executable> TEST_PREFIX <prefix> [PROPERTIES <CTest test properties...>])
 #
 # Registers a test executable whose tests run more than one of hoidslam's threads (tracking and local mapping, the
-# detector thread, the synthetic sequence writer's workers), directly or through the hoidslam binary it starts.
-# Its tests get the CTest label `threaded`, and the target `threaded_tests` builds it: scripts/sanitize.sh tsan
-# builds that target and runs `ctest -L threaded` under ThreadSanitizer. A new test of threaded code goes into one of
-# these executables (slam_tests, pipeline_tests, synth_tests, cli_tests), or its executable is registered here.
+# detector thread, the paced replay's decoders, the synthetic sequence writer's workers), directly or through the
+# hoidslam binary it starts. Its tests get the CTest label `threaded`, and the target `threaded_tests` builds it:
+# scripts/sanitize.sh tsan builds that target and runs `ctest -L threaded` under ThreadSanitizer. A module lists
+# the test files of its threaded code as THREADED_TESTS; the other tests stay out of the ThreadSanitizer run, which
+# is many times slower than the others and has one CPU (docs/testing.md).
 function(hoidslam_threaded_tests target)
   cmake_parse_arguments(T "" "TEST_PREFIX" "PROPERTIES" ${ARGN})
   gtest_discover_tests(${target} TEST_PREFIX "${T_TEST_PREFIX}" DISCOVERY_TIMEOUT 60

@@ -17,11 +17,19 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-// A small sweep: 40 frames of walking_xyz, two modes and one extra interaction area, two runs each, in the
-// deterministic mode so that two benches must agree to the last digit.
+// The sweep's walking_xyz: every third of its first 120 frames (people come into view at about the 100th), or
+// under a sanitizer (see ThinnedUnderSanitizers) every ninth of its first 180, and the folder the bench renders it
+// into.
+const Stretch kSweep = kSanitized ? Stretch{20, 9} : Stretch{40, 3};
+const std::string kSynthFrames = std::to_string(kSweep.frames * kSweep.step);
+const std::string kSynthStep = std::to_string(kSweep.step);
+const std::string kSequenceFolder = "walking_xyz-f" + kSynthFrames + "-s" + kSynthStep;
+
+// A small sweep: two modes and one extra interaction area, two runs each, in the deterministic mode so that two
+// benches must agree to the last digit.
 std::vector<std::string> SmallSweep(const fs::path& sequences, const fs::path& out) {
-  return {"bench",          "--scenarios",    "walking_xyz", "--synth-frames", "120",
-          "--synth-frame-step", "3",          "--modes",     "none,hoid2d",    "--runs",
+  return {"bench",          "--scenarios",    "walking_xyz", "--synth-frames", kSynthFrames,
+          "--synth-frame-step", kSynthStep,          "--modes",     "none,hoid2d",    "--runs",
           "2",              "--area-sweep",   "0.3,0.4",     "--depth-sweep",  "none",
           "--deterministic", "--jobs",        "2",           "--sequences-dir", sequences.string(),
           "--out",          out.string()};
@@ -54,14 +62,14 @@ TEST(CliBench, APlannedSweepRunThroughGnuParallelGivesTheDirectBenchsTables) {
   plan_args.push_back("--plan");
   const RunResult plan = RunHoidslam(scratch, plan_args);
   ASSERT_EQ(plan.exit_status, 0) << plan.err;
-  EXPECT_FALSE(fs::exists(sequences / "walking_xyz-f120-s3"));
+  EXPECT_FALSE(fs::exists(sequences / kSequenceFolder));
   const std::string jobs = testing::ReadText(scratch / "planned" / "jobs.txt");
   EXPECT_EQ(std::count(jobs.begin(), jobs.end(), '\n'), 6);  // (none, hoid2d, hoid2d area=0.3) × 2 runs
   // The one scenario is rendered as task 1 of a Slurm array would render it, the runs by GNU parallel.
   const RunResult render = RunProgram(scratch, {"env", "SLURM_ARRAY_TASK_ID=1", "bash", HOIDSLAM_SCRIPTS_DIR
                                                 "/bench-slurm.sbatch", (scratch / "planned" / "prepare.txt").string()});
   ASSERT_EQ(render.exit_status, 0) << render.err;
-  EXPECT_TRUE(fs::exists(sequences / "walking_xyz-f120-s3" / "rgb.txt"));
+  EXPECT_TRUE(fs::exists(sequences / kSequenceFolder / "rgb.txt"));
   const RunResult parallel = RunProgram(scratch, {HOIDSLAM_PARALLEL, "--will-cite", "--halt", "now,fail=1", "-j", "2",
                                                   "-a", (scratch / "planned" / "jobs.txt").string()});
   ASSERT_EQ(parallel.exit_status, 0) << parallel.err;
@@ -80,7 +88,10 @@ TEST(CliBench, APlannedSweepRunThroughGnuParallelGivesTheDirectBenchsTables) {
   // And the tables hold real numbers: every run finished with an ATE, people leak into `none` only.
   for (const nlohmann::json& run : direct_results["runs"]) {
     EXPECT_EQ(run["status"], "ok") << run.dump();
-    EXPECT_LT(run["ate_rmse"].get<double>(), 0.05) << run.dump();
+    EXPECT_GT(run["ate_rmse"].get<double>(), 0.0) << run.dump();
+    if (!kSanitized) {
+      EXPECT_LT(run["ate_rmse"].get<double>(), 0.05) << run.dump();
+    }
   }
   const nlohmann::json& leaked = Table(direct_results, "leaked");
   EXPECT_EQ(leaked["header"], (nlohmann::json{"sequence", "none", "hoid2d"}));
@@ -100,7 +111,7 @@ TEST(CliBench, APlannedSweepRunThroughGnuParallelGivesTheDirectBenchsTables) {
 
 TEST(CliBench, FailuresAreRecordedAsFailuresAndResumeRunsOnlyWhatIsLeft) {
   const testing::TempDir scratch;
-  const fs::path sequence = Render(scratch, "walking_xyz", 30, 4);
+  const fs::path sequence = Render(scratch, "walking_xyz", {30, 4});
   const fs::path bench = scratch / "bench";
   const std::vector<std::string> base = {"bench", sequence.string(), (scratch / "no_such_sequence").string(),
                                          "--modes", "none", "--area-sweep", "none", "--depth-sweep", "none",

@@ -14,7 +14,6 @@
 #include <opencv2/imgproc.hpp>
 
 #include "cli_test_support.h"
-#include "hoidslam/core/sanitizers.h"
 #include "support/shared_data.h"
 #include "support/temp_dir.h"
 #include "support/text_file.h"
@@ -27,13 +26,6 @@ using ::hoidslam::testing::ReadText;
 
 namespace fs = std::filesystem;
 
-// Whether this build (and so the hoidslam binary the tests run) is instrumented by ThreadSanitizer, which makes
-// tracking many times slower.
-#ifdef HOIDSLAM_THREAD_SANITIZER
-constexpr bool kThreadSanitizer = true;
-#else
-constexpr bool kThreadSanitizer = false;
-#endif
 using ::testing::HasSubstr;
 using ::testing::StartsWith;
 
@@ -224,14 +216,15 @@ TEST(Cli, SynthSequenceIsReadByEval) {
 
 TEST(CliRun, TracksAControlWithNobodyInTheRoomAccurately) {
   const testing::TempDir scratch;
-  const fs::path sequence = Render(scratch, "walking_xyz_static", 150, 1);
+  const Stretch stretch = ThinnedUnderSanitizers({150, 1});
+  const fs::path sequence = Render(scratch, "walking_xyz_static", stretch);
   const fs::path out = scratch / "run";
   const RunResult run = RunHoidslam(scratch, {"run", sequence.string(), "--settings", HOIDSLAM_CONFIG_DIR "/TUM3.yaml",
                                               "--filter", "none", "--out", out.string()});
   ASSERT_EQ(run.exit_status, 0) << run.err;
   EXPECT_THAT(run.out, HasSubstr("ATE (m)"));
   const nlohmann::json summary = Summary(out);
-  EXPECT_EQ(summary["tracked"], 150);
+  EXPECT_EQ(summary["tracked"], stretch.frames);
   EXPECT_EQ(summary["lost"], 0);
   EXPECT_LT(summary["evaluation"]["ate"]["error_m"]["rmse"].get<double>(), 0.01);
   for (const char* file : {"trajectory.txt", "keyframes.txt", "map.ply", "frames.jsonl"}) {
@@ -241,8 +234,10 @@ TEST(CliRun, TracksAControlWithNobodyInTheRoomAccurately) {
 
 TEST(CliRun, DropsPeopleAndWhatTheyCarryAndStaysAccurate) {
   const testing::TempDir scratch;
-  // Every second frame of walking_xyz: people walk through the view and pick things up from the 25th frame on.
-  const fs::path sequence = Render(scratch, "walking_xyz", 150, 2);
+  // The first 300 frames of walking_xyz, every second one: people come into view from about the 50th and pick
+  // things up.
+  const Stretch stretch = ThinnedUnderSanitizers({150, 2});
+  const fs::path sequence = Render(scratch, "walking_xyz", stretch);
   for (const char* mode : {"hoid2d", "hoidplus", "oracle"}) {
     const fs::path out = scratch / mode;
     // In step with local mapping, so the figure does not depend on how busy the machine is.
@@ -250,9 +245,11 @@ TEST(CliRun, DropsPeopleAndWhatTheyCarryAndStaysAccurate) {
         scratch, {"run", sequence.string(), "--filter", mode, "--deterministic", "--out", out.string()});
     ASSERT_EQ(run.exit_status, 0) << run.err;
     const nlohmann::json summary = Summary(out);
-    EXPECT_EQ(summary["tracked"], 150) << mode;
+    EXPECT_EQ(summary["tracked"], stretch.frames) << mode;
     EXPECT_GT(summary["keypoints_dropped"].get<int>(), 1000) << mode;
-    EXPECT_LT(summary["evaluation"]["ate"]["error_m"]["rmse"].get<double>(), 0.01) << mode;
+    if (!kSanitized) {
+      EXPECT_LT(summary["evaluation"]["ate"]["error_m"]["rmse"].get<double>(), 0.01) << mode;
+    }
     EXPECT_LT(summary["exclusion_quality"]["leaked"].get<double>(), 0.05) << mode;
     // The synthetic sequence has people masks: the wasted keypoints on still people are counted.
     EXPECT_TRUE(summary["exclusion_quality"]["static_dropped_on_still_people"].is_number_unsigned()) << mode;
@@ -267,7 +264,7 @@ TEST(CliRun, DropsPeopleAndWhatTheyCarryAndStaysAccurate) {
 
 TEST(CliRun, DeterministicRunsWriteIdenticalFiles) {
   const testing::TempDir scratch;
-  const fs::path sequence = Render(scratch, "walking_xyz", 100, 2);
+  const fs::path sequence = Render(scratch, "walking_xyz", ThinnedUnderSanitizers({100, 2}));
   for (const char* name : {"a", "b"}) {
     const RunResult run = RunHoidslam(scratch, {"run", sequence.string(), "--filter", "hoid2d", "--deterministic",
                                                 "--out", (scratch / name).string()});
@@ -304,59 +301,6 @@ TEST(CliRun, RealTumFramesWithTheOnnxDetector) {
             Summary(scratch / "hoid3d")["keypoints_dropped"].get<int>());
 }
 
-TEST(CliRun, RealTimePacedRunLogsHowOldTheDetectionsWere) {
-  const testing::TempDir scratch;
-  const fs::path sequence = Render(scratch, "walking_xyz", 60, 1);  // 2 s at 30 Hz
-  const fs::path out = scratch / "run";
-  // 64 MB hold about 30 frames: the replay decodes the second half when it gets there.
-  const RunResult run = RunHoidslam(scratch, {"run", sequence.string(), "--realtime", "--pace", "--preload-mb", "64",
-                                              "--detector-latency", "50", "--out", out.string()});
-  ASSERT_EQ(run.exit_status, 0) << run.err;
-  EXPECT_THAT(run.err, HasSubstr("the camera's clock held meanwhile"));
-  EXPECT_THAT(run.out, HasSubstr("frames dropped"));
-  EXPECT_THAT(run.out, HasSubstr("detections: median age"));
-  const nlohmann::json summary = Summary(out);
-  EXPECT_TRUE(summary["realtime"].get<bool>());
-  EXPECT_TRUE(summary["paced"].get<bool>());
-  EXPECT_EQ(summary["frames"].get<int>() + summary["dropped"].get<int>(), 60);
-  // 50 ms is more than a frame, as long as tracking a frame takes less than the detector's 50 ms. Under
-  // ThreadSanitizer it takes longer (and the paced run drops most frames), so the newest detections are mostly
-  // those of the frame itself.
-  if (!kThreadSanitizer) EXPECT_GE(summary["detections"]["median_age_frames"].get<double>(), 1.0);
-  EXPECT_GE(summary["detections"]["median_detector_ms"].get<double>(), 50.0);
-  EXPECT_THAT(ReadText(out / "frames.jsonl"), HasSubstr(R"("age_ms":)"));
-  // The real-time mode gives up the same output on every run.
-  ExpectOneErrorLine(RunHoidslam(scratch, {"run", sequence.string(), "--realtime", "--deterministic", "--out",
-                                           (scratch / "no").string()}),
-                     "--realtime");
-  // A usage error, as for every option out of its range: the option named, and a pointer to --help.
-  const RunResult no_memory =
-      RunHoidslam(scratch, {"run", sequence.string(), "--pace", "--preload-mb", "0", "--out", (scratch / "no").string()});
-  EXPECT_NE(no_memory.exit_status, 0);
-  EXPECT_THAT(no_memory.err, HasSubstr("--preload-mb: Value 0 not in range"));
-  EXPECT_FALSE(fs::exists(scratch / "no"));
-}
-
-TEST(CliRun, CtrlCAtAnyMomentLeavesCompleteOutputsOrNone) {
-  const testing::TempDir scratch;
-  const fs::path sequence = Render(scratch, "walking_xyz", 90, 1);  // 3 s at 30 Hz
-  for (const int ms : {50, 400, 1500}) {
-    const fs::path out = scratch / ("run" + std::to_string(ms));
-    const RunResult run = RunHoidslam(scratch,
-                                      {"run", sequence.string(), "--realtime", "--pace", "--detector-latency", "40",
-                                       "--out", out.string()},
-                                      std::chrono::milliseconds(ms));
-    EXPECT_EQ(run.exit_status, 130) << ms << " ms: " << run.err;  // 128 + SIGINT, as an interrupted program
-    if (!fs::exists(out)) continue;  // stopped before the run began: nothing written
-    const nlohmann::json summary = Summary(out);
-    EXPECT_TRUE(summary["interrupted"].get<bool>()) << ms;
-    const auto lines = [](const std::string& text) { return std::count(text.begin(), text.end(), '\n'); };
-    EXPECT_EQ(lines(ReadText(out / "frames.jsonl")), summary["frames"].get<int>()) << ms;
-    EXPECT_EQ(lines(ReadText(out / "trajectory.txt")) - 1, summary["tracked"].get<int>()) << ms;  // one header line
-    EXPECT_TRUE(fs::exists(out / "map.ply")) << ms;
-  }
-}
-
 TEST(CliRun, NamesWhatIsMissingAndWritesNothing) {
   const testing::TempDir scratch;
   HOIDSLAM_SHARED_PATH_OR_SKIP(sequence, "data/tum/fr3_walking_xyz_pair");
@@ -381,7 +325,7 @@ TEST(CliRun, NamesWhatIsMissingAndWritesNothing) {
 TEST(CliMasks, WritesAMaskPerFrameNamedLikeTheColourImagesAndAList) {
   const testing::TempDir scratch;
   // Every 4th frame of walking_xyz: people come into view from about the 25th.
-  const fs::path sequence = Render(scratch, "walking_xyz", 32, 4);
+  const fs::path sequence = Render(scratch, "walking_xyz", {32, 4});
   const fs::path out = scratch / "masks";
   const RunResult masks = RunHoidslam(
       scratch, {"masks", sequence.string(), "--format", "stella", "--frames", "30", "--out", out.string()});
@@ -492,7 +436,7 @@ TEST(CliReport, TheReportOfARunShowsItsChartsInABrowser) {
               "(scripts/setup.sh does) and configure again";
   }
   const testing::TempDir scratch;
-  const fs::path sequence = Render(scratch, "walking_xyz", 120, 2);
+  const fs::path sequence = Render(scratch, "walking_xyz", ThinnedUnderSanitizers({120, 2}));
   const fs::path run = scratch / "run";
   const RunResult ran = RunHoidslam(scratch, {"run", sequence.string(), "--filter", "hoid2d", "--out", run.string()});
   ASSERT_EQ(ran.exit_status, 0) << ran.err;

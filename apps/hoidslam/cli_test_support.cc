@@ -64,10 +64,11 @@ void ExpectOneErrorLine(const RunResult& result, const std::string& names) {
   EXPECT_EQ(std::count(result.err.begin(), result.err.end(), '\n'), 1) << result.err;
 }
 
-fs::path Render(const testing::TempDir& scratch, const std::string& scenario, int frames, int step) {
+fs::path Render(const testing::TempDir& scratch, const std::string& scenario, Stretch stretch) {
   const fs::path sequence = scratch / scenario;
-  const RunResult synth = RunHoidslam(scratch, {"synth", "--scenario", scenario, "--frames", std::to_string(frames * step),
-                                                "--frame-step", std::to_string(step), "--out", sequence.string()});
+  const RunResult synth =
+      RunHoidslam(scratch, {"synth", "--scenario", scenario, "--frames", std::to_string(stretch.frames * stretch.step),
+                            "--frame-step", std::to_string(stretch.step), "--out", sequence.string()});
   EXPECT_EQ(synth.exit_status, 0) << synth.err;
   return sequence;
 }

@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "hoidslam/core/sanitizers.h"
 #include "support/temp_dir.h"
 
 namespace hoidslam::apps {
@@ -32,8 +33,23 @@ RunResult RunProgram(const testing::TempDir& scratch, const std::vector<std::str
 // The one line a user sees for bad input: "error: ..." and nothing else on stderr, exit status 1.
 void ExpectOneErrorLine(const RunResult& result, const std::string& names);
 
-// Renders `frames` frames of a shipped scenario, every `step`-th frame of its camera path, into scratch/<scenario>.
-std::filesystem::path Render(const testing::TempDir& scratch, const std::string& scenario, int frames, int step);
+// The stretch of a shipped scenario an end-to-end test renders and runs on: `frames` frames, every `step`-th frame of
+// its camera path.
+struct Stretch {
+  int frames = 0;
+  int step = 1;
+};
+
+// Under a sanitizer (scripts/sanitize.sh), where each frame costs 5–10 times as much, a test runs on the same
+// stretch of the scenario (the same people, the same events) in a third of the frames, three times as far apart.
+// The sanitized run goes through the same code looking for memory and threading errors; tracking over three times
+// the motion between frames is less accurate, so the tightest checks of accuracy hold in the plain build only.
+constexpr Stretch ThinnedUnderSanitizers(Stretch stretch) {
+  return kSanitized ? Stretch{stretch.frames / 3, stretch.step * 3} : stretch;
+}
+
+// Renders a stretch of a shipped scenario into scratch/<scenario>.
+std::filesystem::path Render(const testing::TempDir& scratch, const std::string& scenario, Stretch stretch);
 
 // The summary.json of a run folder.
 nlohmann::json Summary(const std::filesystem::path& out);

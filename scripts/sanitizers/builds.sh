@@ -2,12 +2,9 @@
 # configure the ASan build identically and share one build folder (the fuzz targets are part of it).
 #
 # Both builds use clang 14 (about 30% less compile time than GCC 12 for the same -O1 sanitizer build; libFuzzer
-# exists only for clang), a unity build (CMAKE_UNITY_BUILD: each target's sources compiled in batches of
-# $hoidslam_unity_batch, so the heavy OpenCV/Eigen/fmt/json/gtest headers are parsed and their templates
-# instantiated once per batch, not once per file), the lld linker, -O1 and line tables only (-gline-tables-only,
-# enough for file and line in every report), no benchmark programs.
-
-hoidslam_unity_batch=16
+# exists only for clang), a unity build (CMAKE_UNITY_BUILD: each target's sources compiled in batches, see
+# CMakeLists.txt), the lld linker, -O1 and line tables only (-gline-tables-only, enough for file and line in every
+# report), no benchmark programs.
 
 hoidslam_clang() {
   command -v clang++-14 || command -v clang++ || {
@@ -24,7 +21,7 @@ hoidslam_configure_sanitizer_build() {
   cmake -S "$repo" -B "$build" -G Ninja -DCMAKE_CXX_COMPILER="$compiler" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only -DNDEBUG" -DCMAKE_CXX_FLAGS="$flags" \
     -DCMAKE_EXE_LINKER_FLAGS="$flags -fuse-ld=lld" -DCMAKE_UNITY_BUILD=ON \
-    -DCMAKE_UNITY_BUILD_BATCH_SIZE="$hoidslam_unity_batch" -DHOIDSLAM_BUILD_BENCHMARKS=OFF "$@" >/dev/null
+    -DHOIDSLAM_BUILD_BENCHMARKS=OFF "$@" >/dev/null
 }
 
 # The ASan build: AddressSanitizer + UndefinedBehaviorSanitizer (every report aborts) for the whole test suite, and
