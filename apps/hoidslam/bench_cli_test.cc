@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_test_support.h"
+#include "hoidslam/core/sanitizers.h"
 #include "support/temp_dir.h"
 #include "support/text_file.h"
 

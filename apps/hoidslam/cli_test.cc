@@ -14,6 +14,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "cli_test_support.h"
+#include "hoidslam/core/sanitizers.h"
 #include "support/shared_data.h"
 #include "support/temp_dir.h"
 #include "support/text_file.h"
