@@ -1,5 +1,4 @@
-// Settings files: the bytes are a settings file (ORB-SLAM3 YAML read through cv::FileStorage, which also takes
-// XML and JSON when the text starts so).
+// Settings files: the bytes are a settings file (ORB-SLAM3's YAML, read by io/settings_yaml.h).
 
 #include "fuzz/targets.h"
 #include "hoidslam/io/settings.h"

@@ -2,21 +2,21 @@
 
 #include <algorithm>
 #include <array>
-#include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <iterator>
 #include <limits>
-#include <set>
 #include <string>
 #include <string_view>
+#include <system_error>
 #include <utility>
 #include <vector>
 
 #include <fmt/format.h>
-#include <opencv2/core.hpp>
 
 #include "hoidslam/core/error.h"
+#include "hoidslam/io/settings_yaml.h"
 
 namespace hoidslam::io {
 namespace {
@@ -100,81 +100,86 @@ void CheckSettings(const Settings& settings, Spelling spelling) {
   settings.hoid.Check();
 }
 
-// What a node holds, for messages about a value of the wrong type.
-std::string Describe(const cv::FileNode& node) {
-  if (node.isString()) return fmt::format("the text \"{}\"", node.string());
-  if (node.isInt()) return fmt::format("the integer {}", static_cast<int>(node));
-  if (node.isReal()) return fmt::format("the number {}", node.real());
-  if (node.isSeq()) return "a list";
-  if (node.isMap()) return "a mapping";
+// What a value holds, for messages about a value of the wrong type.
+std::string Describe(const yaml::Value& value) {
+  switch (value.kind) {
+    case yaml::Value::Kind::kText: return fmt::format("the text \"{}\"", value.text);
+    case yaml::Value::Kind::kInteger: return fmt::format("the integer {}", value.integer);
+    case yaml::Value::Kind::kReal: return fmt::format("the number {}", value.real);
+    case yaml::Value::Kind::kList: return "a list";
+    case yaml::Value::Kind::kMapping: return "a mapping";
+    case yaml::Value::Kind::kNone: break;
+  }
   return "no value";
 }
 
-// Overloads that read one value into a field when the key is present, leaving the default otherwise.
-void Read(const cv::FileNode& node, const std::string& name, double& value) {
-  if (node.empty()) return;
-  if (!node.isInt() && !node.isReal()) {
-    throw InputError::ForParameter(name, fmt::format("must be a number, found {}", Describe(node)));
-  }
-  value = node.real();
+bool IsNumber(const yaml::Value& value) {
+  return value.kind == yaml::Value::Kind::kInteger || value.kind == yaml::Value::Kind::kReal;
 }
 
-void Read(const cv::FileNode& node, const std::string& name, int& value) {
-  if (node.empty()) return;
-  if (node.isInt()) {
-    value = static_cast<int>(node);
-    return;
+// Overloads that read one value into a field when the key is present (`value` is not null), leaving the default
+// otherwise.
+void Read(const yaml::Value* value, const std::string& name, double& field) {
+  if (value == nullptr) return;
+  if (!IsNumber(*value)) {
+    throw InputError::ForParameter(name, fmt::format("must be a number, found {}", Describe(*value)));
   }
+  field = value->real;
+}
+
+void Read(const yaml::Value* value, const std::string& name, int& field) {
+  if (value == nullptr) return;
   // ORB-SLAM3 files sometimes write integers as 1000.0.
-  const bool integral = node.isReal() && node.real() == std::floor(node.real()) &&
-                        std::abs(node.real()) <= std::numeric_limits<int>::max();
-  if (!integral) throw InputError::ForParameter(name, fmt::format("must be an integer, found {}", Describe(node)));
-  value = static_cast<int>(node.real());
+  const bool integral = IsNumber(*value) && value->real == std::floor(value->real) &&
+                        std::abs(value->real) <= std::numeric_limits<int>::max();
+  if (!integral) throw InputError::ForParameter(name, fmt::format("must be an integer, found {}", Describe(*value)));
+  field = static_cast<int>(value->real);
 }
 
-void Read(const cv::FileNode& node, const std::string& name, bool& value) {
-  if (node.empty()) return;
-  if (!node.isInt() || (static_cast<int>(node) != 0 && static_cast<int>(node) != 1)) {
-    throw InputError::ForParameter(name, fmt::format("must be 0 or 1, found {}", Describe(node)));
+void Read(const yaml::Value* value, const std::string& name, bool& field) {
+  if (value == nullptr) return;
+  if (value->kind != yaml::Value::Kind::kInteger || (value->integer != 0 && value->integer != 1)) {
+    throw InputError::ForParameter(name, fmt::format("must be 0 or 1, found {}", Describe(*value)));
   }
-  value = static_cast<int>(node) == 1;
+  field = value->integer == 1;
 }
 
-void Read(const cv::FileNode& node, const std::string& name, std::string& value) {
-  if (node.empty()) return;
-  if (!node.isString()) throw InputError::ForParameter(name, fmt::format("must be a text, found {}", Describe(node)));
-  value = node.string();
+void Read(const yaml::Value* value, const std::string& name, std::string& field) {
+  if (value == nullptr) return;
+  if (value->kind != yaml::Value::Kind::kText) {
+    throw InputError::ForParameter(name, fmt::format("must be a text, found {}", Describe(*value)));
+  }
+  field = value->text;
 }
 
-void Read(const cv::FileNode& node, const std::string& name, std::vector<std::string>& value) {
-  if (node.empty()) return;
-  if (!node.isSeq()) {
+void Read(const yaml::Value* value, const std::string& name, std::vector<std::string>& field) {
+  if (value == nullptr) return;
+  if (value->kind != yaml::Value::Kind::kList) {
     throw InputError::ForParameter(
-        name, fmt::format("must be a list of class names such as [person, cup], found {}", Describe(node)));
+        name, fmt::format("must be a list of class names such as [person, cup], found {}", Describe(*value)));
   }
   std::vector<std::string> names;
-  for (const cv::FileNode& item : node) {
-    if (!item.isString()) {
+  for (const yaml::Value& item : value->items) {
+    if (item.kind != yaml::Value::Kind::kText) {
       throw InputError::ForParameter(
           name, fmt::format("element {} must be a class name, found {}", names.size() + 1, Describe(item)));
     }
-    names.push_back(item.string());
+    names.push_back(item.text);
   }
-  value = std::move(names);
+  field = std::move(names);
 }
 
-void Read(const cv::FileNode& node, const std::string& name, core::FilterMode& value) {
+void Read(const yaml::Value* value, const std::string& name, core::FilterMode& field) {
   std::string text;
-  Read(node, name, text);
-  if (!node.empty()) value = core::ParseFilterMode(text, name);
+  Read(value, name, text);
+  if (value != nullptr) field = core::ParseFilterMode(text, name);
 }
 
-// Rejects what cv::FileStorage would silently resolve: repeated keys, and typos in our own HOID section.
-void CheckKeyNames(const cv::FileNode& root) {
-  std::set<std::string> seen;
-  for (const cv::FileNode& node : root) {
-    const std::string name = node.name();
-    if (!seen.insert(name).second) throw InputError::ForParameter(name, "is given more than once");
+// Rejects typos in our own HOID sections, whose keys would otherwise be ignored without a word. (Repeated keys
+// are refused by the YAML reader.)
+void CheckHoidKeyNames(const yaml::Value& root) {
+  for (const yaml::Entry& entry : root.entries) {
+    const std::string& name = entry.key;
     if (name.starts_with("HOID.") && std::find(kHoidKeys.begin(), kHoidKeys.end(), name) == kHoidKeys.end()) {
       throw InputError::ForParameter(name,
                                      fmt::format("unknown key (the HOID section has {})", fmt::join(kHoidKeys, ", ")));
@@ -189,20 +194,20 @@ void CheckKeyNames(const cv::FileNode& root) {
 
 // The spelling the file declares, after making sure it does not mix in keys of the other one (they would be
 // ignored, and their defaults used without a word).
-Spelling FileSpelling(const cv::FileNode& root) {
+Spelling FileSpelling(const yaml::Value& root) {
   Spelling spelling = Spelling::kOriginal;
-  if (const cv::FileNode version = root["File.version"]; !version.empty()) {
-    const bool is_1_0 =
-        (version.isString() && version.string() == "1.0") || (version.isReal() && version.real() == 1.0);
+  if (const yaml::Value* version = root.Find("File.version")) {
+    const bool is_1_0 = (version->kind == yaml::Value::Kind::kText && version->text == "1.0") ||
+                        (version->kind == yaml::Value::Kind::kReal && version->real == 1.0);
     if (!is_1_0) {
       throw InputError::ForParameter("File.version",
-                                     fmt::format("only \"1.0\" is supported, found {}", Describe(version)));
+                                     fmt::format("only \"1.0\" is supported, found {}", Describe(*version)));
     }
     spelling = Spelling::kVersion1;
   }
   const Spelling other = spelling == Spelling::kOriginal ? Spelling::kVersion1 : Spelling::kOriginal;
   for (const Key& key : kSpelledKeys) {
-    if (root[key.Name(other)].empty()) continue;
+    if (root.Find(key.Name(other)) == nullptr) continue;
     throw InputError::ForParameter(
         key.Name(other),
         spelling == Spelling::kOriginal
@@ -214,19 +219,19 @@ Spelling FileSpelling(const cv::FileNode& root) {
   return spelling;
 }
 
-Settings ReadSettings(const cv::FileNode& root) {
-  CheckKeyNames(root);
+Settings ReadSettings(const yaml::Value& root) {
+  CheckHoidKeyNames(root);
   const Spelling spelling = FileSpelling(root);
-  const auto read = [&](const std::string& name, auto& field) { Read(root[name], name, field); };
+  const auto read = [&](const std::string& name, auto& field) { Read(root.Find(name), name, field); };
   const auto read_spelled = [&](const Key& key, auto& field) { read(key.Name(spelling), field); };
 
-  if (const cv::FileNode type = root["Camera.type"];
-      !type.empty() && !(type.isString() && type.string() == "PinHole")) {
+  if (const yaml::Value* type = root.Find("Camera.type");
+      type != nullptr && !(type->kind == yaml::Value::Kind::kText && type->text == "PinHole")) {
     throw InputError::ForParameter("Camera.type",
-                                   fmt::format("only \"PinHole\" cameras are supported, found {}", Describe(type)));
+                                   fmt::format("only \"PinHole\" cameras are supported, found {}", Describe(*type)));
   }
   for (const Key& key : {kFx, kFy, kCx, kCy}) {
-    if (root[key.Name(spelling)].empty()) {
+    if (root.Find(key.Name(spelling)) == nullptr) {
       throw InputError::ForParameter(key.Name(spelling), "is required (the camera intrinsics have no default)");
     }
   }
@@ -250,7 +255,7 @@ Settings ReadSettings(const cv::FileNode& root) {
   read_spelled(kThDepth, settings.th_depth);
   if (spelling == Spelling::kOriginal) {
     read_spelled(kBf, settings.bf);
-  } else if (const std::string name = kBf.Name(spelling); !root[name].empty()) {
+  } else if (const std::string name = kBf.Name(spelling); root.Find(name) != nullptr) {
     double baseline = 0.0;
     read(name, baseline);
     RequirePositive(name, baseline);
@@ -292,71 +297,25 @@ Settings ReadSettings(const cv::FileNode& root) {
   return settings;
 }
 
-// cv::FileStorage reports a syntax error as "<file>(<line>): <what>" in Exception::func.
-InputError SyntaxError(const fs::path& path, const cv::Exception& e) {
-  const std::string& where = e.func;
-  const std::size_t close = where.find("): ");
-  const std::size_t open = close == std::string::npos ? std::string::npos : where.rfind('(', close);
-  std::size_t line = 0;
-  if (open != std::string::npos) {
-    const auto [end, error] = std::from_chars(where.data() + open + 1, where.data() + close, line);
-    if (error == std::errc() && end == where.data() + close && line > 0) {
-      return InputError::AtLine(path, line, "YAML syntax error: " + where.substr(close + 3));
-    }
-  }
-  return InputError::InFile(path, "YAML syntax error: " + where);
-}
-
-InputError NotSettingsFile(const fs::path& path) {
-  // OpenCV's own wording here ("Input file is invalid", "buf") would not help the user.
-  return InputError::InFile(
-      path, "not a settings file: it must be YAML beginning with the line %YAML:1.0, as ORB-SLAM3 settings files do");
-}
-
-// Checks the file before cv::FileStorage reads it, against crashes and hangs of OpenCV 4.6 that fuzzing found
-// (fuzz/regressions/settings). FileStorage also reads XML and JSON, chosen by the first bytes, and its XML
-// reader crashes on some malformed files; its YAML reader never returns from some lines with NUL bytes, nor
-// from a document marker followed by a list on its line ("--- - a"). Settings files are YAML text with
-// `key: value` lines, so none of that is lost.
-void CheckIsYamlText(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-  if (in.bad()) throw InputError::InFile(path, "read error");
-  if (!text.starts_with("%YAML")) throw NotSettingsFile(path);
-  std::size_t line_number = 1;
-  for (std::size_t begin = 0; begin < text.size(); ++line_number) {
-    const std::size_t end = std::min(text.find('\n', begin), text.size());
-    const std::string_view line = std::string_view(text).substr(begin, end - begin);
-    if (line.find('\0') != std::string_view::npos) {
-      throw InputError::AtLine(path, line_number, "a NUL byte: a settings file is text");
-    }
-    if (const std::size_t after = line.find_first_not_of(" \t\r", 3);
-        line.starts_with("---") && after != std::string_view::npos && line[after] != '#') {
-      throw InputError::AtLine(path, line_number, "the document marker --- must stand alone on its line");
-    }
-    begin = end + 1;
-  }
-}
-
 }  // namespace
 
 void Settings::Check() const { CheckSettings(*this, Spelling::kOriginal); }
 
 Settings LoadSettings(const std::filesystem::path& path) {
   if (!fs::is_regular_file(path)) throw InputError::InFile(path, "settings file does not exist");
-  CheckIsYamlText(path);
-  cv::FileStorage storage;
-  try {
-    storage.open(path.string(), cv::FileStorage::READ);
-  } catch (const cv::Exception& e) {
-    if (e.code == cv::Error::StsParseError) throw SyntaxError(path, e);
-    throw NotSettingsFile(path);
+  // A settings file is a few kB; anything far larger is the wrong file, and is not read into memory.
+  constexpr std::uintmax_t kMaxBytes = 1 << 20;
+  std::error_code error;
+  const std::uintmax_t bytes = fs::file_size(path, error);
+  if (error) throw InputError::InFile(path, "cannot read: " + error.message());
+  if (bytes > kMaxBytes) {
+    throw InputError::InFile(path, fmt::format("not a settings file: {} bytes (settings files are a few kB)", bytes));
   }
-  if (!storage.isOpened()) throw InputError::InFile(path, "cannot open for reading");
-  const cv::FileNode root = storage.root();
-  if (!root.empty() && !root.isMap()) {
-    throw InputError::InFile(path, "not a settings file: expected 'key: value' lines at the top level");
-  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError::InFile(path, "cannot open for reading");
+  const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  if (in.bad()) throw InputError::InFile(path, "read error");
+  const yaml::Value root = yaml::Parse(text, path);
   try {
     return ReadSettings(root);
   } catch (const InputError& e) {

@@ -1,5 +1,5 @@
 #pragma once
-// Settings files in ORB-SLAM3's format (YAML read with cv::FileStorage, starting with `%YAML:1.0`), plus a
+// Settings files in ORB-SLAM3's format (YAML starting with `%YAML:1.0`, read by settings_yaml.h), plus a
 // HOID.* section, so that a user's existing ORB-SLAM3 RGB-D settings file works unchanged.
 //
 // Both ORB-SLAM3 spellings are read: the original one (Camera.fx, ThDepth, Camera.bf, DepthMapFactor) and the
@@ -36,9 +36,9 @@ struct Settings {
 };
 
 // Reads and checks a settings file. Keys that are absent take the defaults above, except the four required
-// Camera intrinsics. Throws InputError naming the file (and the line, for a YAML syntax error), and the
-// parameter for a value of the wrong type or out of range: "config/TUM3.yaml: parameter Camera.fx: must be > 0,
-// got -1".
+// Camera intrinsics. Throws InputError naming the file, with the line for what the YAML reader refuses (a syntax
+// error, a repeated key), and the parameter for a value of the wrong type or out of range:
+// "config/TUM3.yaml: parameter Camera.fx: must be > 0, got -1".
 Settings LoadSettings(const std::filesystem::path& path);
 
 }  // namespace hoidslam::io
