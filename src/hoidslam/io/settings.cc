@@ -130,18 +130,23 @@ void Read(const yaml::Value* value, const std::string& name, double& field) {
 void Read(const yaml::Value* value, const std::string& name, int& field) {
   if (value == nullptr) return;
   // ORB-SLAM3 files sometimes write integers as 1000.0.
-  const bool integral = IsNumber(*value) && value->real == std::floor(value->real) &&
-                        std::abs(value->real) <= std::numeric_limits<int>::max();
-  if (!integral) throw InputError::ForParameter(name, fmt::format("must be an integer, found {}", Describe(*value)));
+  if (!IsNumber(*value) || value->real != std::floor(value->real)) {
+    throw InputError::ForParameter(name, fmt::format("must be an integer, found {}", Describe(*value)));
+  }
+  if (std::abs(value->real) > std::numeric_limits<int>::max()) {
+    constexpr int kLargest = std::numeric_limits<int>::max();
+    throw InputError::ForParameter(
+        name, fmt::format("must be an integer from -{} to {}, found {}", kLargest, kLargest, Describe(*value)));
+  }
   field = static_cast<int>(value->real);
 }
 
 void Read(const yaml::Value* value, const std::string& name, bool& field) {
   if (value == nullptr) return;
-  if (value->kind != yaml::Value::Kind::kInteger || (value->integer != 0 && value->integer != 1)) {
+  if (!IsNumber(*value) || (value->real != 0.0 && value->real != 1.0)) {
     throw InputError::ForParameter(name, fmt::format("must be 0 or 1, found {}", Describe(*value)));
   }
-  field = value->integer == 1;
+  field = value->real == 1.0;
 }
 
 void Read(const yaml::Value* value, const std::string& name, std::string& field) {

@@ -211,7 +211,9 @@ INSTANTIATE_TEST_SUITE_P(
                       BadValue{"Camera.k3", ".inf", "Camera.k3", "finite"},
                       BadValue{"Camera.fx", "", "Camera.fx", "must be a number, found no value"},
                       BadValue{"Camera.width", "0", "Camera.width", "must be >= 1"},
-                      BadValue{"Camera.width", "4294967936", "Camera.width", "must be an integer, found the integer"},
+                      BadValue{"Camera.width", "4294967936", "Camera.width",
+                               "must be an integer from -2147483647 to 2147483647, found the integer 4294967936"},
+                      BadValue{"Camera.RGB", "0.5", "Camera.RGB", "must be 0 or 1, found the number 0.5"},
                       BadValue{"Camera.height", "480.5", "Camera.height", "must be an integer"},
                       BadValue{"Camera.fps", "0", "Camera.fps", "must be > 0"},
                       BadValue{"Camera.RGB", "2", "Camera.RGB", "must be 0 or 1"},
@@ -325,7 +327,7 @@ TEST_F(SettingsFile, ReadsAnOrbSlam3FileWithMatrices) {
   const Settings settings = LoadSettings(Write(
       "%YAML:1.0\n\n#--------\n# Camera\n#--------\nFile.version: \"1.0\"\nCamera.type: \"PinHole\"\n"
       "Camera1.fx: 382.613\nCamera1.fy: 382.613\nCamera1.cx: 320.183\nCamera1.cy: 236.455\n"
-      "Camera.width: 640\nCamera.height: 480\nCamera.fps: 30\nCamera.RGB: 1\nStereo.b: 0.0499585\n"
+      "Camera.width: 640\nCamera.height: 480\nCamera.fps: 30\nCamera.RGB: 1.0\nViewer.PointSize:2\nStereo.b: 0.0499585\n"
       "IMU.T_b_c1: !!opencv-matrix\n   rows: 4\n   cols: 4\n   dt: f\n"
       "   data: [1.0, 0.0, 0.0, 0.0,\n          0.0, 1.0, 0.0, 0.0,\n          0.0, 0.0, 1.0, 0.0,\n"
       "          0.0, 0.0, 0.0, 1.0]\nRGBD.DepthMapFactor: 1000.0\nORBextractor.nFeatures: 1250\n"));
@@ -333,6 +335,7 @@ TEST_F(SettingsFile, ReadsAnOrbSlam3FileWithMatrices) {
   EXPECT_DOUBLE_EQ(settings.bf, 0.0499585 * 382.613);
   EXPECT_DOUBLE_EQ(settings.depth_map_factor, 1000.0);
   EXPECT_EQ(settings.orb.n_features, 1250);
+  EXPECT_TRUE(settings.rgb_order);
 }
 
 TEST_F(SettingsFile, RefusesAFileFarLargerThanSettingsWithoutReadingIt) {

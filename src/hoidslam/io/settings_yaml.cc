@@ -6,6 +6,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <utility>
 
 #include <fmt/format.h>
@@ -62,8 +63,17 @@ std::size_t CommentStart(std::string_view text) {
   return text.size();
 }
 
-// The ':' that ends a key: the first one followed by a space, a tab or the end of the line.
-std::size_t KeyEnd(std::string_view text) {
+// Where a plain element of a [list] ends: at ',', ']' or a comment, found in one pass.
+std::size_t FlowPlainEnd(std::string_view text) {
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (text[i] == ',' || text[i] == ']') return i;
+    if (text[i] == '#' && (i == 0 || text[i - 1] == ' ' || text[i - 1] == '\t')) return i;
+  }
+  return text.size();
+}
+
+// A ':' followed by a space, a tab or the end of the line, which would make a plain value a mapping.
+std::size_t MappingColon(std::string_view text) {
   for (std::size_t i = 0; i < text.size(); ++i) {
     if (text[i] == ':' && (i + 1 == text.size() || text[i + 1] == ' ' || text[i + 1] == '\t')) return i;
   }
@@ -107,7 +117,17 @@ class Parser {
       begin = end + 1;
       if (line.find('\0') != std::string_view::npos) Fail(number, "a NUL byte: a settings file is text");
       if (line.ends_with('\r')) line.remove_suffix(1);  // files written on Windows
-      if (number == 1 || IsBlank(line)) continue;
+      if (line.find('\r') != std::string_view::npos) {
+        Fail(number, "a carriage return inside a line: save the file with line breaks of Linux (LF) or Windows (CRLF)");
+      }
+      if (number == 1) {
+        const std::string_view version = line.substr(std::string_view("%YAML:1.").size());
+        if (!IsBlank(version.substr(std::min(version.find_first_not_of("0123456789"), version.size())))) {
+          Fail(number, "YAML syntax error: the first line must be %YAML:1.0 alone");
+        }
+        continue;
+      }
+      if (IsBlank(line)) continue;
       const std::size_t indent = std::min(line.find_first_not_of(' '), line.size());
       if (line[indent] == '\t') Fail(number, "YAML syntax error: a tab in the indentation (YAML indents with spaces)");
       const std::string_view content = line.substr(indent);
@@ -132,24 +152,33 @@ class Parser {
   Value Mapping(std::size_t indent, int depth) {
     if (depth > kMaxDepth) Fail(lines_[next_].number, fmt::format("nested deeper than {} levels", kMaxDepth));
     Value mapping = OfKind(Value::Kind::kMapping, lines_[next_].number);
+    std::unordered_map<std::string_view, std::size_t> first_lines;  // of the keys so far
+    bool after_block = false;  // the previous key took the indented lines below it
     while (next_ < lines_.size() && lines_[next_].indent >= indent) {
       const Line& line = lines_[next_++];
       if (line.indent > indent) {
-        Fail(line.number,
-             "YAML syntax error: this line is indented under a key that already has a value (only [lists] run over "
-             "several lines)");
+        Fail(line.number, after_block ? "YAML syntax error: this line is indented differently from the lines above it "
+                                        "in its block"
+                                      : "YAML syntax error: this line is indented under a key that already has a "
+                                        "value (only [lists] run over several lines)");
       }
       if (IsListItem(line.text)) Fail(line.number, "YAML syntax error: a list element where 'key: value' belongs");
-      const std::size_t colon = KeyEnd(line.text);
+      // As in OpenCV, the first ':' ends the key, with or without a space after it ("Viewer.PointSize:2").
+      const std::size_t colon = line.text.find(':');
       if (colon == std::string_view::npos) Fail(line.number, "YAML syntax error: expected 'key: value'");
       const std::string_view key = TrimRight(line.text.substr(0, colon));
-      if (key.empty() || key.find_first_of("\"'[]{}!&*|>@`#%,?") == 0) {
+      if (key.empty() || std::string_view("\"'[]{}!&*|>@`#%,?").find(key.front()) != std::string_view::npos) {
         Fail(line.number, fmt::format("YAML syntax error: '{}' is not a key (keys are plain text)", key));
       }
-      if (const Value* first = mapping.Find(key)) {
-        Fail(line.number, fmt::format("{} is given more than once (first on line {})", key, first->line));
+      if (CommentStart(key) != key.size()) {
+        Fail(line.number, "YAML syntax error: expected 'key: value' (a comment begins before the ':')");
       }
+      if (const auto [first, inserted] = first_lines.emplace(key, line.number); !inserted) {
+        Fail(line.number, fmt::format("{} is given more than once (first on line {})", key, first->second));
+      }
+      const std::size_t next_before = next_;
       Value value = EntryValue(line.text.substr(colon + 1), line.number, indent, depth);
+      after_block = value.kind == Value::Kind::kMapping && next_ != next_before;
       mapping.entries.push_back(Entry{std::string(key), std::move(value)});
     }
     return mapping;
@@ -158,7 +187,16 @@ class Parser {
   // What follows `key:` on line `number`; without anything there, the indented block below.
   Value EntryValue(std::string_view rest, std::size_t number, std::size_t key_indent, int depth) {
     rest = TrimLeft(rest);
-    if (rest.starts_with('!')) rest = TrimLeft(rest.substr(std::min(rest.find_first_of(" \t"), rest.size())));
+    // A tag (OpenCV's !!opencv-matrix) names the type of the block below; reading the block does not need it.
+    if (rest.starts_with('!')) {
+      const std::size_t end = std::min(rest.find_first_of(" \t"), rest.size());
+      if (end == 1) Fail(number, "YAML syntax error: a tag without a name ('!')");
+      rest = rest.substr(end);
+      if (!IsBlank(rest)) {
+        Fail(number, "YAML syntax error: a tag before a value is not supported; a tag may only open an indented "
+                     "block, as !!opencv-matrix does");
+      }
+    }
     if (IsBlank(rest)) {
       if (next_ < lines_.size()) {
         const Line& below = lines_[next_];
@@ -171,9 +209,7 @@ class Parser {
       }
       return OfKind(Value::Kind::kNone, number);
     }
-    Value value = rest.starts_with('[') ? FlowList(rest.substr(1), number) : LineValue(rest, number);
-    value.line = number;
-    return value;
+    return rest.starts_with('[') ? FlowList(rest.substr(1), number, key_indent) : LineValue(rest, number);
   }
 
   // "- value" lines at `indent`.
@@ -183,9 +219,7 @@ class Parser {
       const Line& line = lines_[next_++];
       const std::string_view rest = TrimLeft(line.text.substr(1));
       if (IsBlank(rest)) Fail(line.number, "YAML syntax error: a list element without a value");
-      Value item = LineValue(rest, line.number);
-      item.line = line.number;
-      list.items.push_back(std::move(item));
+      list.items.push_back(LineValue(rest, line.number));
     }
     return list;
   }
@@ -200,15 +234,19 @@ class Parser {
     return Plain(TrimRight(rest.substr(0, CommentStart(rest))), number);
   }
 
-  // A list in brackets that opens on line `number` just before `rest`; it may run over the lines below.
-  Value FlowList(std::string_view rest, std::size_t number) {
-    Value list = OfKind(Value::Kind::kList);
+  // A list in brackets that opens on line `number` just before `rest`, after a key at `key_indent`; it may run
+  // over the lines below that are indented more than the key.
+  Value FlowList(std::string_view rest, std::size_t number, std::size_t key_indent) {
+    Value list = OfKind(Value::Kind::kList, number);
     std::size_t line = number;
     bool expect_element = true;  // after '[' or ','
     while (true) {
       rest = TrimLeft(rest);
       if (IsBlank(rest)) {
-        if (next_ == lines_.size()) Fail(number, "YAML syntax error: the list is not closed with ]");
+        if (next_ == lines_.size() || lines_[next_].indent <= key_indent) {
+          Fail(number, "YAML syntax error: the list is not closed with ] (the lines it runs over are indented more "
+                       "than its key)");
+        }
         line = lines_[next_].number;
         rest = lines_[next_++].text;
         continue;
@@ -228,11 +266,10 @@ class Parser {
       if (rest.front() == '"' || rest.front() == '\'') {
         element = Quoted(rest, line);
       } else {
-        const std::size_t end = std::min(rest.find_first_of(",]"), CommentStart(rest));
+        const std::size_t end = FlowPlainEnd(rest);
         element = Plain(TrimRight(rest.substr(0, end)), line);
         rest.remove_prefix(end);
       }
-      element.line = line;
       list.items.push_back(std::move(element));
       expect_element = false;
     }
@@ -279,7 +316,7 @@ class Parser {
                                "put it in quotes",
                                first));
     }
-    if (KeyEnd(token) != std::string_view::npos) {
+    if (MappingColon(token) != std::string_view::npos) {
       Fail(number, fmt::format("YAML syntax error: ':' in the value '{}'; put it in quotes", token));
     }
     if (auto value = Number(token, number)) return *value;
@@ -290,18 +327,16 @@ class Parser {
 
   // The number a plain value spells, if it is one. Only digits, signs, '.' and exponents count (so "inf", "nan"
   // and "nan(1)" stay text), and YAML's .inf and .nan.
-  std::optional<Value> Number(std::string_view token, std::size_t number) const {
+  std::optional<Value> Number(std::string_view token, std::size_t line) const {
     std::string_view unsigned_part = token;
     const bool negative = token.starts_with('-');
     if (token.starts_with('+') || negative) unsigned_part.remove_prefix(1);
-    Value value;
+    Value value = OfKind(Value::Kind::kReal, line);
     if (unsigned_part == ".inf" || unsigned_part == ".Inf" || unsigned_part == ".INF") {
-      value.kind = Value::Kind::kReal;
       value.real = negative ? -std::numeric_limits<double>::infinity() : std::numeric_limits<double>::infinity();
       return value;
     }
-    if (token == ".nan" || token == ".NaN" || token == ".NAN") {
-      value.kind = Value::Kind::kReal;
+    if (token == ".nan" || token == ".NaN" || token == ".NAN") {  // YAML has no signed NaN
       value.real = std::numeric_limits<double>::quiet_NaN();
       return value;
     }
@@ -309,6 +344,12 @@ class Parser {
     if (!numeric_characters || unsigned_part.find_first_of("0123456789") == std::string_view::npos ||
         unsigned_part.starts_with('+') || unsigned_part.starts_with('-')) {
       return std::nullopt;
+    }
+    const bool whole = unsigned_part.find_first_not_of("0123456789") == std::string_view::npos;
+    if (whole && unsigned_part.size() > 1 && unsigned_part.front() == '0') {
+      Fail(line, fmt::format("YAML syntax error: the integer {} begins with 0, which ORB-SLAM3 (through OpenCV) reads "
+                             "as octal; write it without the leading 0",
+                             token));
     }
     // from_chars takes '-' but not '+': parse the magnitude and the sign apart.
     const char* const begin = unsigned_part.data();
@@ -323,8 +364,7 @@ class Parser {
     double real = 0.0;
     const auto [stop, error] = std::from_chars(begin, end, real, std::chars_format::general);
     if (stop != end) return std::nullopt;
-    if (error == std::errc::result_out_of_range) Fail(number, fmt::format("the number {} is out of range", token));
-    value.kind = Value::Kind::kReal;
+    if (error == std::errc::result_out_of_range) Fail(line, fmt::format("the number {} is out of range", token));
     value.real = negative ? -real : real;
     return value;
   }

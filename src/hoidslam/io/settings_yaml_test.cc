@@ -35,11 +35,11 @@ TEST(SettingsYaml, ReadsNumbersAsIntegersOrRealsAndEverythingElseAsText) {
       "a: 1000\nb: -3\nc: +4\nd: 1000.0\ne: 1.\nf: .5\ng: -3.2e-3\nh: 99999999999999999999\n"
       "i: .inf\nj: -.inf\nk: .nan\n"
       "l: PinHole\nm: \"1.0\"\nn: 'it''s'\no: \"a\\\"b\\\\c\\td\"\np: inf\nq: nan(1)\nr: 1.2.3\ns: 0x10\n"
-      "t: two words  # and a comment\nu: a#b\nv: 12:30\n");
+      "t: two words  # and a comment\nu: a#b\nv: 12:30\nw:7\n");
   ASSERT_EQ(root.kind, Kind::kMapping);
-  EXPECT_EQ(root.entries.size(), 22u);
+  EXPECT_EQ(root.entries.size(), 23u);
   using Integers = std::vector<std::pair<std::string, std::int64_t>>;
-  for (const auto& [key, integer] : Integers{{"a", 1000}, {"b", -3}, {"c", 4}}) {
+  for (const auto& [key, integer] : Integers{{"a", 1000}, {"b", -3}, {"c", 4}, {"w", 7}}) {
     SCOPED_TRACE(key);
     EXPECT_EQ(At(root, key).kind, Kind::kInteger);
     EXPECT_EQ(At(root, key).integer, integer);
@@ -110,7 +110,7 @@ TEST(SettingsYaml, ReadsAnOpenCvMatrixAsAMappingUnderItsKey) {
       "   rows: 2\n"
       "   cols: 2\n"
       "   dt: f\n"
-      "   data: [1.0, 0.0,\n"
+      "   data:[1.0, 0.0,\n"
       "          0.0, 1.0]\n"
       "Camera.fx: 535.4\n"
       "Empty:\n"
@@ -141,6 +141,14 @@ TEST(SettingsYaml, AcceptsTheHeaderFormsMarkersCommentsWindowsLineEndingsAndAByt
   const Value empty = ParseText("%YAML:1.0\n# nothing yet\n");
   EXPECT_EQ(empty.kind, Kind::kMapping);
   EXPECT_TRUE(empty.entries.empty());
+}
+
+TEST(SettingsYaml, RefusesAFirstLineWithMoreThanTheVersion) {
+  for (const std::string& text : {std::string("%YAML:1.0 Camera.fx: 535.4\n"),
+                                  std::string("%YAML:1.0\rCamera.fx: 535.4\rCamera.fy: 539.2\r")}) {
+    SCOPED_TRACE(text);
+    EXPECT_THAT([&] { ParseText(text); }, ThrowsMessage<InputError>(HasSubstr("my.yaml:1: ")));
+  }
 }
 
 TEST(SettingsYaml, RefusesAFileThatIsNotYamlWithoutALine) {
@@ -174,12 +182,20 @@ INSTANTIATE_TEST_SUITE_P(
     WhatSettingsFilesDoNotUse, SettingsYamlRefuses,
     ::testing::Values(
         Refused{"a: 1\nb: [x, y\n", 3, "the list is not closed with ]"},
+        Refused{"b: [x, y\nc: z\n", 2, "the list is not closed with ]"},
+        Refused{"b: [x, #y]\nc: z\n", 2, "the list is not closed with ]"},
         Refused{"a: [\"x\" \"y\"]\n", 2, "missing ',' between the elements"},
         Refused{"a: [x,\n , y]\n", 3, "an empty element"},
         Refused{"a: [x] y\n", 2, "'y' after the list"},
         Refused{"a: [[1, 2]]\n", 2, "a value beginning with '['"},
         Refused{"a: {b: 1}\n", 2, "a value beginning with '{'"},
         Refused{"a: &anchor 1\n", 2, "a value beginning with '&'"},
+        Refused{"a: !str 5\n", 2, "a tag before a value is not supported"},
+        Refused{"a: !\n", 2, "a tag without a name"},
+        Refused{"a: 010\n", 2, "the integer 010 begins with 0"},
+        Refused{"a #note: 5\n", 2, "a comment begins before the ':'"},
+        Refused{"Tbc: !!opencv-matrix\n   rows: 4\n  cols: 4\n", 4, "indented differently from the lines above it"},
+        Refused{"a: 1\rb: 2\n", 2, "a carriage return inside a line"},
         Refused{"a: |\n  text\n", 2, "a value beginning with '|'"},
         Refused{"a: - 1\n", 2, "a value beginning with '-'"},
         Refused{"a: \"open\n", 2, "the quoted value is not closed on its line"},
