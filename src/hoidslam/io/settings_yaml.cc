@@ -55,10 +55,15 @@ bool IsBlank(std::string_view text) {
 
 bool IsListItem(std::string_view text) { return text == "-" || text.starts_with("- ") || text.starts_with("-\t"); }
 
-// Where a comment begins ('#' at the start or after a space), or the end of `text`.
+// A comment begins at `i`: a '#' at the start or after a space.
+bool CommentAt(std::string_view text, std::size_t i) {
+  return text[i] == '#' && (i == 0 || text[i - 1] == ' ' || text[i - 1] == '\t');
+}
+
+// Where a comment begins, or the end of `text`.
 std::size_t CommentStart(std::string_view text) {
   for (std::size_t i = 0; i < text.size(); ++i) {
-    if (text[i] == '#' && (i == 0 || text[i - 1] == ' ' || text[i - 1] == '\t')) return i;
+    if (CommentAt(text, i)) return i;
   }
   return text.size();
 }
@@ -66,8 +71,7 @@ std::size_t CommentStart(std::string_view text) {
 // Where a plain element of a [list] ends: at ',', ']' or a comment, found in one pass.
 std::size_t FlowPlainEnd(std::string_view text) {
   for (std::size_t i = 0; i < text.size(); ++i) {
-    if (text[i] == ',' || text[i] == ']') return i;
-    if (text[i] == '#' && (i == 0 || text[i - 1] == ' ' || text[i - 1] == '\t')) return i;
+    if (text[i] == ',' || text[i] == ']' || CommentAt(text, i)) return i;
   }
   return text.size();
 }
