@@ -36,6 +36,7 @@ struct RunArgs {
   std::string filter;      // overrides HOID.mode
   std::optional<double> min_interaction_area;  // overrides HOID.minInteractionArea
   std::optional<double> depth_threshold;       // overrides HOID.depthThreshold
+  std::string keypoint_budget{pipeline::ToString(pipeline::RunOptions{}.keypoint_budget)};
   std::size_t snapshots = pipeline::RunOptions{}.snapshots;
   std::string out;
   std::size_t frames = 0;
@@ -106,6 +107,7 @@ nlohmann::json SummaryJson(const pipeline::RunSummary& s, const std::string& seq
           {"detector_failures", s.detector_failures},
           {"keypoints_extracted", s.keypoints_extracted},
           {"keypoints_dropped", s.keypoints_dropped},
+          {"keypoints_tracked", s.keypoints_tracked},
           {"moving_points_erased", s.moving_points},
           {"interrupted", s.interrupted},
           {"seconds", s.seconds},
@@ -129,6 +131,7 @@ void RunRun(const RunArgs& args) {
   if (!args.filter.empty()) pipeline::SetFilterMode(args.filter, options.exclusion, "--filter");
   if (args.min_interaction_area) options.exclusion.hoid.min_interaction_area = *args.min_interaction_area;
   if (args.depth_threshold) options.exclusion.hoid.depth_threshold = *args.depth_threshold;
+  options.keypoint_budget = pipeline::ParseKeypointBudget(args.keypoint_budget, "--keypoint-budget");
   options.snapshots = args.snapshots;
   options.system.deterministic = args.deterministic;
   options.realtime.enabled = args.realtime;
@@ -188,9 +191,11 @@ void RunRun(const RunArgs& args) {
   }
   fmt::print("{:.1f} frames per second ({} frames in {:.1f} s)\n", json["frames_per_second"].get<double>(),
              summary.frames, summary.seconds);
-  fmt::print("keypoints: {} extracted, {} dropped by the filter ({:.1f} %)\n", summary.keypoints_extracted,
-             summary.keypoints_dropped,
-             summary.keypoints_extracted == 0 ? 0.0 : 100.0 * summary.keypoints_dropped / summary.keypoints_extracted);
+  fmt::print("keypoints: {} extracted, {} dropped by the filter ({:.1f} %), {} tracked ({:.0f} a frame)\n",
+             summary.keypoints_extracted, summary.keypoints_dropped,
+             summary.keypoints_extracted == 0 ? 0.0 : 100.0 * summary.keypoints_dropped / summary.keypoints_extracted,
+             summary.keypoints_tracked,
+             summary.frames == 0 ? 0.0 : static_cast<double>(summary.keypoints_tracked) / summary.frames);
   if (options.exclusion.SafetyNet()) {
     fmt::print("safety net: {} map points erased as moving\n", summary.moving_points);
   }
@@ -239,6 +244,11 @@ void AddRunCommand(CLI::App& app) {
                       "Overrides HOID.depthThreshold: the largest depth difference (m) between a handled object and "
                       "its person in hoid3d")
       ->check(CLI::PositiveNumber);
+  command->add_option("--keypoint-budget", args->keypoint_budget,
+                      "Where a frame's ORBextractor.nFeatures keypoints go: static (to what the filter keeps: the frame "
+                      "is extracted again outside what it drops, so a frame full of people still gets the whole "
+                      "budget on the static world) or image (over the whole image, as ORB-SLAM does)")
+      ->capture_default_str();
   command->add_option("--snapshots", args->snapshots,
                       "Annotated frames written to <out>/snapshots/, spread evenly over the run")
       ->capture_default_str();

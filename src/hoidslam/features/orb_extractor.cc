@@ -11,6 +11,7 @@
 #include <string>
 #include <utility>
 
+#include <fmt/format.h>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
@@ -25,6 +26,10 @@ constexpr int kHalfPatch = 15;      // radius of the orientation disk, half the 
 constexpr int kEdgeThreshold = 19;  // keypoints lie at least this far inside their level image (ORB-SLAM)
 constexpr int kFastBorder = 3;      // cv::FAST reports no corner within 3 px of its image's edge
 constexpr int kCellSize = 30;       // side of the cells the FAST thresholds are chosen in
+// ExtractOutside keeps its keypoints this many pixels of their own level away from what is excluded: a corner
+// closer than that is made by, or described with, the pixels of a person's outline, which move with the person.
+// (Without it, walking_xyz with hoid2d drifted to 74 mm ATE; with 8 level-0 pixels it kept 3.3 mm.)
+constexpr int kExcludedMargin = 8;
 constexpr int kDescriptorBytes = 32;
 constexpr int kTests = kDescriptorBytes * 8;
 // A test point of the 31×31 patch, rotated, lands up to round(15·√2) = 21 px from the keypoint: 2 px past the
@@ -180,6 +185,9 @@ cv::Rect SearchArea(const cv::Mat& image) {
   return {kBorder, kBorder, image.cols - 2 * kBorder, image.rows - 2 * kBorder};
 }
 
+// Whether a level image is large enough to hold a keypoint kEdgeThreshold inside its edges.
+bool Usable(const cv::Mat& image) { return image.cols > 2 * kEdgeThreshold && image.rows > 2 * kEdgeThreshold; }
+
 // ORB-SLAM's split of n features over the levels: a geometric series of ratio 1 / scale_factor (the levels'
 // side, not their area: ORB-SLAM's own choice, which leaves the coarse levels more than the area would), rounded,
 // the last level taking what is left.
@@ -235,9 +243,24 @@ void OrbExtractor::BuildPyramid(const cv::Mat& gray) {
     // stepping down by 1.2 at a time blurs enough, while a jump from level 0 (up to 1.2^7 ≈ 3.6×) would alias.
     cv::resize(levels_[l - 1].image, levels_[l].image, size, 0.0, 0.0, cv::INTER_LINEAR);
   }
+  for (Level& level : levels_) level.blurred_ready = false;
 }
 
-void OrbExtractor::DetectCorners(Level& level) const {
+template <typename Work>
+void OrbExtractor::ForEachLevel(const Work& work) {
+  // One task per level, largest first, which OpenCV's threads share out as each becomes free. Each level writes
+  // only its own buffers, so the result does not depend on the threads.
+  const int count = static_cast<int>(levels_.size());
+  cv::parallel_for_(
+      cv::Range(0, count),
+      [&work](const cv::Range& range) {
+        for (int l = range.start; l < range.end; ++l) work(l);
+      },
+      count);
+}
+
+void OrbExtractor::DetectCorners(int index, const cv::Mat& excluded) {
+  Level& level = levels_[static_cast<std::size_t>(index)];
   const cv::Mat& image = level.image;
   level.corners.clear();
   const cv::Rect search = SearchArea(image);
@@ -248,6 +271,29 @@ void OrbExtractor::DetectCorners(Level& level) const {
   const int rows = std::max(1, search.height / kCellSize);
   const int cell_width = (search.width + columns - 1) / columns;
   const int cell_height = (search.height + rows - 1) / rows;
+  const auto cell = [&](int r, int col) {
+    return cv::Rect(kEdgeThreshold + col * cell_width, kEdgeThreshold + r * cell_height, cell_width, cell_height) &
+           band;
+  };
+
+  // Whether the corner at level pixel (x, y) may be kept: the pixel its level-0 position rounds to is not
+  // excluded. The position is computed as Collect computes it, so the test agrees with one on the keypoint.
+  // And it keeps the margin: the level's mask, grown by kExcludedMargin of its pixels, is clear there too.
+  const float scale = pyramid_.scale[static_cast<std::size_t>(index)];
+  const auto outside = [&](int x, int y) {
+    if (excluded.empty()) return true;
+    const auto x0 = static_cast<int>(std::lround(static_cast<float>(x) * scale));
+    const auto y0 = static_cast<int>(std::lround(static_cast<float>(y) * scale));
+    return excluded.at<std::uint8_t>(std::min(y0, excluded.rows - 1), std::min(x0, excluded.cols - 1)) == 0 &&
+           level.excluded.at<std::uint8_t>(y, x) == 0;
+  };
+  if (!excluded.empty()) {
+    // Into the level's own buffer: the caller's mask is not ours to change.
+    if (index > 0) cv::resize(excluded, level.excluded, image.size(), 0.0, 0.0, cv::INTER_NEAREST);
+    const int side = 2 * kExcludedMargin + 1;
+    cv::dilate(index > 0 ? level.excluded : excluded, level.excluded,
+               cv::getStructuringElement(cv::MORPH_RECT, cv::Size(side, side)));
+  }
 
   // A cell keeps its corners scoring >= iniThFAST if it has any, else its corners scoring >= minThFAST: what
   // ORB-SLAM gets by running FAST per cell at iniThFAST and again at minThFAST where that yields nothing. Here
@@ -256,32 +302,49 @@ void OrbExtractor::DetectCorners(Level& level) const {
   // threshold, so non-maximum suppression keeps a corner scoring >= iniThFAST at the low threshold exactly when it
   // keeps it at the high one (the extra corners it then competes with score lower); and the window of the empty
   // cells reaches one pixel past them, so their corners are suppressed by the same neighbours. (ORB-SLAM
-  // suppresses within each cell only, so it may keep a few more corners along cell borders.)
+  // suppresses within each cell only, so it may keep a few more corners along cell borders.) With a mask, the
+  // corners at iniThFAST are those of the first pass, and a cell counts as empty when none of them lies outside.
   const auto add = [&](const cv::Rect& window, const cv::Rect& keep) {
     for (const cv::KeyPoint& kp : level.fast) {
       const int x = cvRound(kp.pt.x) + window.x;
       const int y = cvRound(kp.pt.y) + window.y;
-      if (keep.contains(cv::Point(x, y))) level.corners.push_back({x, y, kp.response});
+      if (keep.contains(cv::Point(x, y)) && outside(x, y)) level.corners.push_back({x, y, kp.response});
     }
   };
-  cv::FAST(image(search), level.fast, options_.ini_th_fast, true, cv::FastFeatureDetector::TYPE_9_16);
-  add(search, band);
+  if (excluded.empty()) {
+    cv::FAST(image(search), level.fast, options_.ini_th_fast, true, cv::FastFeatureDetector::TYPE_9_16);
+    add(search, band);
+    level.strong = level.corners;
+  } else {
+    for (const Corner& c : level.strong) {
+      if (outside(c.x, c.y)) level.corners.push_back(c);
+    }
+    // Too few strong corners outside the mask for the level's share: the threshold is lowered over all of it,
+    // not only in the cells that have none (a corner scoring >= iniThFAST is found again at minThFAST).
+    if (static_cast<int>(level.corners.size()) < features_per_level_[static_cast<std::size_t>(index)]) {
+      level.corners.clear();
+    }
+  }
   level.cell_strong.assign(static_cast<std::size_t>(columns * rows), 0);
   for (const Corner& c : level.corners) {
     level.cell_strong[static_cast<std::size_t>((c.y - kEdgeThreshold) / cell_height * columns +
                                                (c.x - kEdgeThreshold) / cell_width)] = 1;
   }
-  const auto strong = [&](int r, int col) {
-    return level.cell_strong[static_cast<std::size_t>(r * columns + col)] != 0;
+  // A cell is searched again at minThFAST when it has no strong corner and some pixel outside the mask.
+  const auto searched = [&](int r, int col) {
+    if (level.cell_strong[static_cast<std::size_t>(r * columns + col)] != 0) return false;
+    if (excluded.empty()) return true;
+    const cv::Rect box = cell(r, col);
+    return !box.empty() && cv::countNonZero(level.excluded(box)) < box.area();
   };
   for (int r = 0; r < rows; ++r) {
     for (int col = 0; col < columns;) {
-      if (strong(r, col)) {
+      if (!searched(r, col)) {
         ++col;
         continue;
       }
       int end = col + 1;
-      while (end < columns && !strong(r, end)) ++end;
+      while (end < columns && searched(r, end)) ++end;
       cv::Rect run(kEdgeThreshold + col * cell_width, kEdgeThreshold + r * cell_height, (end - col) * cell_width,
                    cell_height);
       run &= band;
@@ -297,16 +360,14 @@ void OrbExtractor::DetectCorners(Level& level) const {
   }
 }
 
-void OrbExtractor::ProcessLevel(int index) {
+void OrbExtractor::SelectAndDescribe(int index, int budget) {
   const auto l = static_cast<std::size_t>(index);
   Level& level = levels_[l];
   level.keypoints.clear();
+  if (budget == 0 || level.corners.empty()) return;
   const cv::Mat& image = level.image;
-  if (features_per_level_[l] == 0 || image.cols <= 2 * kEdgeThreshold || image.rows <= 2 * kEdgeThreshold) return;
-
-  DetectCorners(level);
   // The quadtree spans the FAST search area, as ORB-SLAM's does.
-  level.distributor.Distribute(level.corners, SearchArea(image), features_per_level_[l], level.selected);
+  level.distributor.Distribute(level.corners, SearchArea(image), budget, level.selected);
   if (level.selected.empty()) return;
 
   const float size = kPatchSize * pyramid_.scale[l];
@@ -316,14 +377,17 @@ void OrbExtractor::ProcessLevel(int index) {
                                  c.response, index);
   }
 
-  // Smoothed into the inside of a bordered buffer. Isolated: level 0 may be a view into a larger image, whose
-  // pixels beyond the view must not count.
-  level.blurred.create(image.rows + 2 * kBlurBorder, image.cols + 2 * kBlurBorder, CV_8UC1);
+  // Smoothed into the inside of a bordered buffer, once a frame. Isolated: level 0 may be a view into a larger
+  // image, whose pixels beyond the view must not count.
+  if (!level.blurred_ready) level.blurred.create(image.rows + 2 * kBlurBorder, image.cols + 2 * kBlurBorder, CV_8UC1);
   cv::Mat inner = level.blurred(cv::Rect(kBlurBorder, kBlurBorder, image.cols, image.rows));
-  const cv::Matx<float, 7, 1>& kernel = SmoothingKernel();
-  cv::sepFilter2D(image, inner, CV_8U, kernel, kernel, cv::Point(-1, -1), 0.0,
-                  cv::BORDER_REFLECT_101 | cv::BORDER_ISOLATED);
-  ReflectBorder(level.blurred, kBlurBorder);
+  if (!level.blurred_ready) {
+    const cv::Matx<float, 7, 1>& kernel = SmoothingKernel();
+    cv::sepFilter2D(image, inner, CV_8U, kernel, kernel, cv::Point(-1, -1), 0.0,
+                    cv::BORDER_REFLECT_101 | cv::BORDER_ISOLATED);
+    ReflectBorder(level.blurred, kBlurBorder);
+    level.blurred_ready = true;
+  }
 
   level.descriptors.create(static_cast<int>(level.keypoints.size()), kDescriptorBytes, CV_8UC1);
   for (std::size_t i = 0; i < level.keypoints.size(); ++i) {
@@ -340,19 +404,49 @@ void OrbExtractor::Extract(const cv::Mat& gray, std::vector<cv::KeyPoint>& keypo
                                 cv::typeToString(gray.type()));
   }
   BuildPyramid(gray);
+  ForEachLevel([this](int l) {
+    Level& level = levels_[static_cast<std::size_t>(l)];
+    level.strong.clear();
+    level.corners.clear();
+    if (!Usable(level.image)) return;
+    DetectCorners(l, cv::Mat());
+    SelectAndDescribe(l, features_per_level_[static_cast<std::size_t>(l)]);
+  });
+  Collect(keypoints, descriptors);
+}
 
-  // One task per level, largest first, which OpenCV's threads share out as each becomes free. Each level writes
-  // only its own buffers, so the result does not depend on the threads.
-  const int count = static_cast<int>(levels_.size());
-  cv::parallel_for_(
-      cv::Range(0, count),
-      [this](const cv::Range& range) {
-        for (int l = range.start; l < range.end; ++l) ProcessLevel(l);
-      },
-      count);
-  levels_[0].image.release();  // the caller's image: not ours to hold on to
+void OrbExtractor::ExtractOutside(const cv::Mat& excluded, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors) {
+  const cv::Mat& image = levels_[0].image;
+  if (image.empty()) throw std::logic_error("OrbExtractor::ExtractOutside: no image extracted from yet");
+  if (excluded.size() != image.size() || excluded.type() != CV_8UC1) {
+    throw std::invalid_argument(fmt::format("OrbExtractor::ExtractOutside: the mask must be {}×{} CV_8UC1, got {}×{} {}",
+                                            image.cols, image.rows, excluded.cols, excluded.rows,
+                                            cv::typeToString(excluded.type())));
+  }
+  ForEachLevel([&](int l) {
+    if (Usable(levels_[static_cast<std::size_t>(l)].image)) DetectCorners(l, excluded);
+  });
+  // A level whose part outside the mask has fewer corners than its share passes the rest on, to the finest
+  // levels first (the most corners, the most precise positions).
+  std::vector<int> budget = features_per_level_;
+  int spare = 0;
+  for (std::size_t l = 0; l < levels_.size(); ++l) {
+    const int corners = static_cast<int>(levels_[l].corners.size());
+    if (corners < budget[l]) {
+      spare += budget[l] - corners;
+      budget[l] = corners;
+    }
+  }
+  for (std::size_t l = 0; l < levels_.size() && spare > 0; ++l) {
+    const int more = std::min(spare, static_cast<int>(levels_[l].corners.size()) - budget[l]);
+    budget[l] += more;
+    spare -= more;
+  }
+  ForEachLevel([&](int l) { SelectAndDescribe(l, budget[static_cast<std::size_t>(l)]); });
+  Collect(keypoints, descriptors);
+}
 
-  // Level by level, in level-0 pixels.
+void OrbExtractor::Collect(std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors) const {
   std::size_t total = 0;
   for (const Level& level : levels_) total += level.keypoints.size();
   keypoints.clear();

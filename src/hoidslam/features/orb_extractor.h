@@ -2,6 +2,11 @@
 // ORB features as ORB-SLAM extracts them: a scale pyramid, FAST corners found per grid cell with a high and,
 // where a cell has none, a low threshold, the requested number spread evenly over each level with a quadtree,
 // orientation by intensity centroid and rotated BRIEF descriptors (256 bits).
+//
+// A second call, ExtractOutside, spends the same budget again on the part of the image a mask leaves: once the
+// exclusion filter knows which regions it drops (people, the things they carry), the frame's keypoints go to the
+// static world instead of being dropped with the people. It reuses the pyramid and the FAST corners of the first
+// call, so it costs the selection and the descriptors only.
 
 #include <cstdint>
 #include <vector>
@@ -38,8 +43,20 @@ class OrbExtractor {
   // Deterministic: the same image gives the same keypoints in the same order, level by level. `descriptors`
   // always gets a new buffer, so descriptors kept from an earlier call are never overwritten.
   // The levels are spread over OpenCV's threads (cv::setNumThreads; 1 runs them in turn), with the same result.
+  // The extractor holds on to `gray` (not a copy) until the next call, for ExtractOutside.
   // Throws std::invalid_argument when `gray` is empty or not CV_8UC1.
   void Extract(const cv::Mat& gray, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors);
+
+  // Extracts again from the image of the last Extract call (which must not have changed since), with no keypoint
+  // on the pixels `excluded` marks (CV_8UC1 of the image's size, non-zero = excluded; a keypoint is excluded when
+  // the pixel its level-0 position rounds to is). The budget is spread over what is left as Extract spreads it over
+  // the image: per level by the quadtree, each cell's FAST threshold chosen among its corners outside the mask (so
+  // a cell whose strong corners all lie on a person is searched again at minThFAST). Where the mask leaves a level
+  // fewer strong corners than its share, all it leaves is searched at minThFAST; a level that still has too few
+  // hands what it cannot use on to the levels that have more (finest first), so that a frame full of people gets
+  // about the whole budget on what remains. Unlike Extract, which keeps ORB-SLAM's fixed shares. Same order and fields as
+  // Extract. Throws std::logic_error before any Extract, std::invalid_argument for a mask of the wrong size or type.
+  void ExtractOutside(const cv::Mat& excluded, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors);
 
   const ScalePyramid& pyramid() const { return pyramid_; }
   const core::OrbOptions& options() const { return options_; }
@@ -51,7 +68,10 @@ class OrbExtractor {
   struct Level {
     cv::Mat image;                          // level 0 is the input itself
     cv::Mat blurred;                        // smoothed image inside a reflected border, for the descriptors
+    bool blurred_ready = false;             // blurred holds this frame's image
+    cv::Mat excluded;                       // ExtractOutside's mask at this level's size
     std::vector<cv::KeyPoint> fast;         // cv::FAST's output
+    std::vector<Corner> strong;             // the FAST corners scoring >= iniThFAST in the band, kept for ExtractOutside
     std::vector<Corner> corners;            // the FAST corners kept after the per-cell thresholds
     std::vector<std::uint8_t> cell_strong;  // whether each cell has a corner at iniThFAST
     std::vector<int> selected;              // indices into corners the quadtree keeps
@@ -66,10 +86,16 @@ class OrbExtractor {
   std::vector<Level> levels_;
 
   void BuildPyramid(const cv::Mat& gray);
-  // Finds, orients and describes the keypoints of one level; levels share nothing, so they run in parallel.
-  void ProcessLevel(int level);
-  // Fills level.corners with the level's FAST corners as the per-cell thresholds choose them.
-  void DetectCorners(Level& level) const;
+  // Runs `work(level index)` for every level, spread over OpenCV's threads: levels share nothing.
+  template <typename Work>
+  void ForEachLevel(const Work& work);
+  // Fills level.corners with the level's FAST corners as the per-cell thresholds choose them; with `excluded`
+  // (level 0's mask), among the corners outside it only, and no cell lying wholly inside it is searched.
+  void DetectCorners(int index, const cv::Mat& excluded);
+  // Spreads `budget` keypoints over the level's corners, orients and describes them.
+  void SelectAndDescribe(int index, int budget);
+  // The keypoints of all levels, level by level, in level-0 pixels.
+  void Collect(std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors) const;
 };
 
 // Hamming distance between two 32-byte ORB descriptors.

@@ -508,6 +508,157 @@ TEST(OrbExtractor, TumFrameGivesAboutNFeatures) {
 
 // ---- descriptor distance --------------------------------------------------------------------------------------------
 
+// ---- extraction outside a mask -------------------------------------------------------------------------------------
+
+// Whether the keypoint lies on a marked pixel: the pixel its position rounds to, as the exclusion filter tests it.
+bool OnMask(const cv::Mat& mask, const cv::KeyPoint& kp) {
+  return mask.at<std::uint8_t>(static_cast<int>(std::lround(kp.pt.y)), static_cast<int>(std::lround(kp.pt.x))) != 0;
+}
+
+// People standing across most of a 640×480 frame: three tall boxes that leave a fifth of the image, in two
+// narrow gaps between them and above two of them.
+cv::Mat CrowdMask() {
+  cv::Mat mask(480, 640, CV_8UC1, cv::Scalar(0));
+  for (const cv::Rect& person : {cv::Rect(0, 80, 200, 400), cv::Rect(230, 0, 200, 480), cv::Rect(470, 100, 170, 380)}) {
+    mask(person).setTo(255);
+  }
+  return mask;
+}
+
+Features ExtractOutside(OrbExtractor& extractor, const cv::Mat& image, const cv::Mat& mask) {
+  Features first;
+  extractor.Extract(image, first.keypoints, first.descriptors);
+  Features f;
+  extractor.ExtractOutside(mask, f.keypoints, f.descriptors);
+  return f;
+}
+
+TEST(OrbExtractor, ExtractOutsideAnEmptyMaskEqualsExtract) {
+  const cv::Mat image = TexturedImage({640, 480}, 21);
+  OrbExtractor extractor(core::OrbOptions{});
+  ExpectIdentical(ExtractOutside(extractor, image, cv::Mat::zeros(480, 640, CV_8UC1)), Extract(image));
+}
+
+TEST(OrbExtractor, ExtractOutsideSpendsTheBudgetOnWhatTheMaskLeaves) {
+  const cv::Mat image = TexturedImage({640, 480}, 22);
+  const cv::Mat mask = CrowdMask();
+  ASSERT_LT(cv::countNonZero(mask == 0), 0.25 * mask.total());
+  OrbExtractor extractor(core::OrbOptions{});
+  const Features all = Extract(image);
+  const auto outside = [&](const std::vector<cv::KeyPoint>& keypoints) {
+    return std::count_if(keypoints.begin(), keypoints.end(), [&](const auto& kp) { return !OnMask(mask, kp); });
+  };
+  // Spread over the whole image, about a fifth of the budget lands where the mask leaves.
+  EXPECT_LT(outside(all.keypoints), 350);
+
+  const Features f = ExtractOutside(extractor, image, mask);
+  EXPECT_EQ(outside(f.keypoints), static_cast<long>(f.keypoints.size())) << "no keypoint on the mask";
+  // Nor near it: a corner by a person's outline moves with the person.
+  cv::Mat near;
+  cv::dilate(mask, near, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(15, 15)));
+  for (const cv::KeyPoint& kp : f.keypoints) ASSERT_FALSE(OnMask(near, kp)) << kp.pt;
+  EXPECT_GE(f.keypoints.size(), 950U);
+  EXPECT_LE(f.keypoints.size(), 1000U);
+  EXPECT_EQ(f.descriptors.rows, static_cast<int>(f.keypoints.size()));
+  // Spread over every part the mask leaves, not crowded into one.
+  const auto in = [&](const cv::Rect& part) {
+    return std::count_if(f.keypoints.begin(), f.keypoints.end(), [&](const auto& kp) { return part.contains(kp.pt); });
+  };
+  EXPECT_GT(in({200, 0, 30, 480}), 100) << "the gap between the first two people";
+  EXPECT_GT(in({430, 0, 40, 480}), 100) << "the gap between the last two";
+  EXPECT_GT(in({0, 0, 200, 80}), 100) << "above the first";
+  EXPECT_GT(in({470, 0, 170, 100}), 100) << "above the last";
+  // Every keypoint and descriptor is one the same corner gets from a full extraction: same position, angle and
+  // bits, where both have it.
+  int common = 0;
+  for (std::size_t i = 0; i < f.keypoints.size(); ++i) {
+    for (std::size_t j = 0; j < all.keypoints.size(); ++j) {
+      if (all.keypoints[j].pt != f.keypoints[i].pt || all.keypoints[j].octave != f.keypoints[i].octave) continue;
+      ++common;
+      EXPECT_EQ(all.keypoints[j].angle, f.keypoints[i].angle);
+      EXPECT_EQ(DescriptorDistance(all.descriptors.row(static_cast<int>(j)), f.descriptors.row(static_cast<int>(i))),
+                0);
+    }
+  }
+  EXPECT_GT(common, 50);
+}
+
+TEST(OrbExtractor, ExtractOutsideSearchesCellsWhoseStrongCornersAreAllMasked) {
+  // Full-contrast texture in 12 px stripes, faint texture in the 36 px between them: every cell has strong
+  // corners, all on the stripes. With the stripes masked, only a second look at minThFAST finds the faint corners
+  // between them (beyond the margin kept from the mask).
+  cv::Mat image = TexturedImage({640, 480}, 23, 0.15);
+  const cv::Mat strong = TexturedImage({640, 480}, 24);
+  cv::Mat mask(480, 640, CV_8UC1, cv::Scalar(0));
+  for (int y = 0; y < 480; y += 48) {
+    strong.rowRange(y, y + 12).copyTo(image.rowRange(y, y + 12));
+    mask.rowRange(std::max(0, y - 3), std::min(480, y + 15)).setTo(255);
+  }
+  OrbExtractor extractor(core::OrbOptions{});
+  const Features f = ExtractOutside(extractor, image, mask);
+  for (const cv::KeyPoint& kp : f.keypoints) ASSERT_FALSE(OnMask(mask, kp));
+  EXPECT_GE(f.keypoints.size(), 500U);
+  const auto faint = std::count_if(f.keypoints.begin(), f.keypoints.end(), [](const auto& kp) { return kp.response < 20; });
+  EXPECT_GT(faint, static_cast<long>(f.keypoints.size()) / 2);
+}
+
+TEST(OrbExtractor, ExtractOutsidePassesALevelsShortfallToOthers) {
+  // Where the mask leaves only fine grain (pixel noise, which the coarse levels average away), the coarse levels
+  // find few corners: the finest takes their share over.
+  cv::Mat image = TexturedImage({640, 480}, 25);
+  cv::Mat grain(480, 640, CV_8UC1);
+  cv::randu(grain, 100, 156);
+  cv::GaussianBlur(grain, grain, cv::Size(3, 3), 0.6);
+  grain.colRange(0, 320).copyTo(image.colRange(0, 320));
+  cv::Mat mask(480, 640, CV_8UC1, cv::Scalar(0));
+  mask.colRange(320, 640).setTo(255);
+  OrbExtractor extractor(core::OrbOptions{});
+  const Features f = ExtractOutside(extractor, image, mask);
+  std::vector<int> per_level(8, 0);
+  for (const cv::KeyPoint& kp : f.keypoints) ++per_level[static_cast<std::size_t>(kp.octave)];
+  EXPECT_LT(per_level[7], extractor.features_per_level()[7]) << "the coarsest level has too few corners there";
+  EXPECT_GT(per_level[0], extractor.features_per_level()[0]) << "the finest takes over what the others cannot use";
+  EXPECT_GE(f.keypoints.size(), 990U);
+}
+
+TEST(OrbExtractor, ExtractOutsideIsDeterministicAndThreadIndependent) {
+  const cv::Mat image = TexturedImage({640, 480}, 26);
+  const cv::Mat mask = CrowdMask();
+  const int threads = cv::getNumThreads();
+  cv::setNumThreads(1);
+  OrbExtractor one(core::OrbOptions{});
+  const Features a = ExtractOutside(one, image, mask);
+  cv::setNumThreads(4);
+  OrbExtractor four(core::OrbOptions{});
+  const Features b = ExtractOutside(four, image, mask);
+  cv::setNumThreads(threads);
+  ExpectIdentical(a, b);
+  // Again after another frame: nothing of the earlier frame is reused.
+  ExtractOutside(one, TexturedImage({640, 480}, 27), cv::Mat::zeros(480, 640, CV_8UC1));
+  ExpectIdentical(a, ExtractOutside(one, image, mask));
+}
+
+TEST(OrbExtractor, ExtractOutsideNeedsAnExtractionAndAMaskOfTheImagesSize) {
+  OrbExtractor extractor(core::OrbOptions{});
+  std::vector<cv::KeyPoint> keypoints;
+  cv::Mat descriptors;
+  EXPECT_THROW(extractor.ExtractOutside(cv::Mat::zeros(480, 640, CV_8UC1), keypoints, descriptors), std::logic_error);
+  extractor.Extract(TexturedImage({640, 480}, 28), keypoints, descriptors);
+  EXPECT_THROW(extractor.ExtractOutside(cv::Mat::zeros(240, 320, CV_8UC1), keypoints, descriptors),
+               std::invalid_argument);
+  EXPECT_THROW(extractor.ExtractOutside(cv::Mat::zeros(480, 640, CV_32FC1), keypoints, descriptors),
+               std::invalid_argument);
+}
+
+TEST(OrbExtractor, ExtractOutsideOnTumFrameKeepsNearlyTheBudget) {
+  HOIDSLAM_SHARED_PATH_OR_SKIP(path, kTumFrame);
+  const cv::Mat gray = cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
+  OrbExtractor extractor(core::OrbOptions{});
+  const Features f = ExtractOutside(extractor, gray, CrowdMask());
+  EXPECT_GE(f.keypoints.size(), 900U);
+  for (const cv::KeyPoint& kp : f.keypoints) ASSERT_FALSE(OnMask(CrowdMask(), kp));
+}
+
 TEST(DescriptorDistance, CountsDifferingBits) {
   std::mt19937 rng(17);
   std::uniform_int_distribution<int> byte(0, 255);

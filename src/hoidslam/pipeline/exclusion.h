@@ -94,6 +94,11 @@ class KeypointExclusion {
   // The pixels the frame last marked drops, CV_8UC1 255 = dropped (not for oracle, whose mask is its own):
   // the dynamic boxes, or for hoidplus with depth their foreground regions.
   cv::Mat PaintDropped(const core::RgbdFrame& frame, const hoid::JudgedBoxes& boxes) const;
+  // Where no keypoint may be given back to tracking once Mark has dropped `keep`'s zeros, CV_8UC1 255 = dropped:
+  // PaintDropped's pixels (for oracle, the moving mask), and the pixel every dropped keypoint rounds to, so that
+  // a keypoint the filter dropped at a region's edge is not taken up again.
+  cv::Mat DroppedPixels(const core::RgbdFrame& frame, const hoid::JudgedBoxes& boxes,
+                        std::span<const cv::KeyPoint> keypoints, std::span<const std::uint8_t> keep) const;
 
   // Whether the sequence has ground-truth moving masks to score against.
   bool CanScore() const { return !mask_folder_.empty(); }

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
+#include "hoidslam/core/enum_names.h"
 #include "hoidslam/core/error.h"
 #include "hoidslam/core/progress.h"
 #include "hoidslam/core/stopwatch.h"
@@ -146,7 +147,41 @@ class FrameDetections {
   std::optional<DetectorResult> newest_;  // the newest good detections
 };
 
+// Spends the budget the filter freed on the static world: `features` becomes the keypoints the filter dropped
+// (keep 0, for the log and the scoring), then those of a second extraction outside every pixel it drops (keep 1).
+void ExtractOutsideDropped(slam::System& system, const KeypointExclusion& exclusion, const core::RgbdFrame& frame,
+                           const hoid::JudgedBoxes& boxes, slam::ExtractedFeatures& features,
+                           std::vector<std::uint8_t>& keep) {
+  const slam::ExtractedFeatures outside =
+      system.ExtractOutside(exclusion.DroppedPixels(frame, boxes, features.keypoints, keep));
+  slam::ExtractedFeatures merged;
+  merged.keypoints.reserve(features.keypoints.size() + outside.keypoints.size());
+  merged.descriptors.reserve(features.keypoints.size() + outside.keypoints.size());
+  for (std::size_t i = 0; i < features.keypoints.size(); ++i) {
+    if (keep[i] != 0) continue;
+    merged.keypoints.push_back(features.keypoints[i]);
+    merged.descriptors.push_back(features.descriptors.row(static_cast<int>(i)));
+  }
+  const std::size_t dropped = merged.keypoints.size();
+  merged.keypoints.insert(merged.keypoints.end(), outside.keypoints.begin(), outside.keypoints.end());
+  merged.descriptors.push_back(outside.descriptors);
+  keep.assign(merged.keypoints.size(), 1);
+  std::fill_n(keep.begin(), dropped, std::uint8_t{0});
+  features = std::move(merged);
+}
+
+constexpr core::EnumNames<KeypointBudget, 2> kBudgetNames = {{
+    {KeypointBudget::kStatic, "static"},
+    {KeypointBudget::kImage, "image"},
+}};
+
 }  // namespace
+
+std::string_view ToString(KeypointBudget budget) { return core::EnumName(kBudgetNames, budget); }
+
+KeypointBudget ParseKeypointBudget(std::string_view text, const std::string& parameter) {
+  return core::ParseEnumName(kBudgetNames, text, parameter, "keypoint budget");
+}
 
 void RealTimeOptions::Check() const {
   if (preload_megabytes < 1 || preload_megabytes > (std::size_t{1} << 20)) {
@@ -243,7 +278,7 @@ RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detec
     if (detections) detections->Submit(index, frame);
 
     clock.Restart();
-    const slam::ExtractedFeatures features = system.Extract(frame.rgb);
+    slam::ExtractedFeatures features = system.Extract(frame.rgb);
     times.extract = clock.ElapsedMilliseconds();
 
     nlohmann::json entry = {{"frame", index}, {"timestamp", frame.timestamp}};
@@ -258,7 +293,14 @@ RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detec
     clock.Restart();
     exclusion.Mark(frame, frame_detections, features.keypoints, features.descriptors, keep, boxes);
     times.filter = clock.ElapsedMilliseconds();
-    const auto kept = static_cast<std::size_t>(std::count(keep.begin(), keep.end(), std::uint8_t{1}));
+    const std::size_t extracted = features.keypoints.size();
+    const auto dropped = static_cast<std::size_t>(std::count(keep.begin(), keep.end(), std::uint8_t{0}));
+    if (dropped > 0 && options.keypoint_budget == KeypointBudget::kStatic) {
+      clock.Restart();
+      ExtractOutsideDropped(system, exclusion, frame, boxes, features, keep);
+      times.extract += clock.ElapsedMilliseconds();
+    }
+    const std::size_t kept = features.keypoints.size() - dropped;
     if (exclusion.CanScore()) {
       const ExclusionCounts counts = exclusion.Score(frame, features.keypoints, keep);
       *summary.exclusion += counts;
@@ -281,8 +323,9 @@ RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detec
     exclusion.AfterTracking(result.T_cw);
 
     ++summary.frames;
-    summary.keypoints_extracted += features.keypoints.size();
-    summary.keypoints_dropped += features.keypoints.size() - kept;
+    summary.keypoints_extracted += extracted;
+    summary.keypoints_dropped += dropped;
+    summary.keypoints_tracked += kept;
     summary.moving_points += static_cast<std::size_t>(result.moving_points);
     if (result.T_cw) {
       ++summary.tracked;
@@ -295,9 +338,11 @@ RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detec
 
     entry["state"] = result.T_cw ? "ok" : slam::ToString(result.state);
     entry["method"] = slam::ToString(result.method);
+    if (result.failure != slam::TrackingFailure::kNone) entry["failure"] = slam::ToString(result.failure);
     entry["keyframe"] = result.keyframe;
-    entry["features"] = {{"extracted", features.keypoints.size()},
-                         {"dropped", features.keypoints.size() - kept},
+    entry["features"] = {{"extracted", extracted},
+                         {"dropped", dropped},
+                         {"kept", kept},
                          {"matched", result.matched},
                          {"inliers", result.inliers}};
     if (options.exclusion.SafetyNet()) entry["features"]["moving_points"] = result.moving_points;

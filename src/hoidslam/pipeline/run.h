@@ -20,6 +20,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "hoidslam/detect/detector.h"
@@ -51,10 +52,24 @@ struct RealTimeOptions {
   void Check() const;
 };
 
+// Where a frame's keypoint budget (ORBextractor.nFeatures) goes.
+enum class KeypointBudget {
+  // To what the filter keeps: once it has dropped people and what they carry, the frame is extracted again outside
+  // the pixels it dropped (slam::System::ExtractOutside), so that a frame full of people still gets about the
+  // whole budget on the static world. The dropped keypoints stay in the log and the scoring, never in tracking.
+  kStatic,
+  // Over the whole image, as ORB-SLAM spreads it; what the filter drops is lost to tracking.
+  kImage,
+};
+std::string_view ToString(KeypointBudget budget);
+// "static" or "image"; throws InputError naming `parameter` for anything else.
+KeypointBudget ParseKeypointBudget(std::string_view text, const std::string& parameter);
+
 struct RunOptions {
   slam::SystemOptions system;
   ExclusionOptions exclusion;
   RealTimeOptions realtime;
+  KeypointBudget keypoint_budget = KeypointBudget::kStatic;
   std::size_t max_frames = 0;  // 0: the whole sequence
   std::size_t snapshots = 6;   // annotated frames written, evenly spread over the run
 
@@ -82,8 +97,9 @@ struct RunSummary {
   std::size_t keyframes = 0;
   std::size_t map_points = 0;
   std::size_t detector_failures = 0;  // frames whose detections could not be had (the previous ones were used)
-  std::size_t keypoints_extracted = 0;
-  std::size_t keypoints_dropped = 0;
+  std::size_t keypoints_extracted = 0;  // by the first extraction, over the whole image
+  std::size_t keypoints_dropped = 0;    // of those, by the filter
+  std::size_t keypoints_tracked = 0;    // handed to tracking: the rest, or those of the extraction outside the drops
   std::size_t moving_points = 0;     // map points the safety net erased (hoidplus)
   std::size_t dropped = 0;           // frames a paced run passed over, arriving while the system was busy
   std::vector<StageTimes> times;     // one per frame

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -128,6 +129,42 @@ TEST(RunSequence, TracksEveryFrameAndWritesCompleteOutputs) {
   EXPECT_EQ(snapshots, (std::vector<std::string>{"000003.jpg", "000010.jpg", "000016.jpg", "000023.jpg",
                                                  "000030.jpg", "000036.jpg"}));
   EXPECT_EQ(cv::imread((dir / "out" / "snapshots" / "000030.jpg").string()).size(), cv::Size(640, 480));
+}
+
+TEST(RunSequence, TheKeypointBudgetGoesToWhatTheFilterKeeps) {
+  HOIDSLAM_SHARED_PATH_OR_SKIP(tum_dir, "data/tum");
+  testing::TempDir dir;
+  const fs::path sequence_root = RenderWalking(dir, tum_dir, 40);
+  const io::RgbdSequence sequence = io::RgbdSequence::OpenTum(sequence_root);
+  std::map<KeypointBudget, std::vector<nlohmann::json>> logs;
+  std::map<KeypointBudget, RunSummary> summaries;
+  for (const KeypointBudget budget : {KeypointBudget::kStatic, KeypointBudget::kImage}) {
+    const fs::path out = dir / std::string(ToString(budget));
+    fs::create_directories(out);
+    detect::FileDetector detector(sequence_root / "detections.jsonl");
+    RunOptions options = Hoid2d();
+    options.keypoint_budget = budget;
+    summaries[budget] = RunSequence(sequence, detector, options, out);
+    logs[budget] = ReadLog(out / "frames.jsonl");
+  }
+  EXPECT_EQ(summaries[KeypointBudget::kStatic].tracked, 40U);
+  // The first extraction and the filter's verdict on it are the same; what tracking gets differs.
+  EXPECT_EQ(summaries[KeypointBudget::kStatic].keypoints_dropped, summaries[KeypointBudget::kImage].keypoints_dropped);
+  int crowded = 0;
+  for (std::size_t i = 0; i < 40; ++i) {
+    const nlohmann::json& mine = logs[KeypointBudget::kStatic][i]["features"];
+    const nlohmann::json& image = logs[KeypointBudget::kImage][i]["features"];
+    EXPECT_EQ(image["kept"], image["extracted"].get<int>() - image["dropped"].get<int>()) << "frame " << i;
+    if (mine["dropped"].get<int>() < 200) continue;
+    ++crowded;
+    EXPECT_GE(mine["kept"].get<int>(), 950) << "frame " << i;
+    // The keypoints on moving things stay dropped: the second extraction adds none.
+    EXPECT_LE(logs[KeypointBudget::kStatic][i]["exclusion"]["moving_kept"].get<int>(),
+              logs[KeypointBudget::kImage][i]["exclusion"]["moving_kept"].get<int>() + 2)
+        << "frame " << i;
+  }
+  EXPECT_GT(crowded, 5) << "people cover part of the view in some frames";
+  EXPECT_GT(summaries[KeypointBudget::kStatic].keypoints_tracked, summaries[KeypointBudget::kImage].keypoints_tracked);
 }
 
 TEST(RunSequence, StopsWhenAskedAndKeepsWhatWasDone) {

@@ -60,6 +60,12 @@ ExtractedFeatures System::Extract(const cv::Mat& image) {
   return features;
 }
 
+ExtractedFeatures System::ExtractOutside(const cv::Mat& excluded) {
+  ExtractedFeatures features;
+  extractor_.ExtractOutside(excluded, features.keypoints, features.descriptors);
+  return features;
+}
+
 TrackResult System::Track(const core::RgbdFrame& frame, const ExtractedFeatures& features,
                           std::span<const std::uint8_t> keep) {
   const std::size_t n = features.keypoints.size();

@@ -59,6 +59,9 @@ class System {
 
   // ORB features of a colour (CV_8UC3, BGR) or grey (CV_8UC1) image.
   ExtractedFeatures Extract(const cv::Mat& image);
+  // The features of the image last given to Extract once more, with the whole budget spent outside the pixels
+  // `excluded` marks (CV_8UC1, non-zero = excluded): features::OrbExtractor::ExtractOutside.
+  ExtractedFeatures ExtractOutside(const cv::Mat& excluded);
 
   // Tracks the next frame with the keypoints whose keep flag is non-zero (keep is empty: all). The frame's depth
   // (metres) and colour are sampled at the kept keypoints. Throws std::invalid_argument when keep has the wrong

@@ -168,6 +168,63 @@ TEST(System, KeepFlagsSelectKeypoints) {
   EXPECT_EQ(result.inliers, kept);  // all have depth
 }
 
+// Keep flags for the first `n` keypoints only.
+std::vector<std::uint8_t> KeepFirst(const ExtractedFeatures& features, std::size_t n) {
+  std::vector<std::uint8_t> keep(features.keypoints.size(), 0);
+  std::fill_n(keep.begin(), std::min(n, keep.size()), std::uint8_t{1});
+  return keep;
+}
+
+TEST(System, AFrameWithFewKeypointsIsTrackedOnItsSupport) {
+  const cv::Mat texture = MakeTexture(3);
+  System system(Options());
+  for (int k = 0; k < 4; ++k) {
+    const core::RgbdFrame frame = MakeFrame(texture, k);
+    ASSERT_EQ(system.Track(frame, system.Extract(frame.rgb), {}).state, TrackingState::kOk);
+  }
+  // People fill the view: 24 keypoints left, all with close depth. Fewer than the 30 inliers a frame needs by
+  // count, yet their depth supports the pose (24 × 1.5).
+  const core::RgbdFrame frame = MakeFrame(texture, 4);
+  const ExtractedFeatures features = system.Extract(frame.rgb);
+  const TrackResult result = system.Track(frame, features, KeepFirst(features, 24));
+  ASSERT_EQ(result.state, TrackingState::kOk);
+  EXPECT_LT(result.inliers, 30);
+  EXPECT_LT((result.T_cw->translation() - TrueTranslation(4)).norm(), 0.005);
+}
+
+TEST(System, AShortLossIsBridgedByTheMotionModelAndSaysWhy) {
+  const cv::Mat texture = MakeTexture(3);
+  System system(Options());
+  for (int k = 0; k < 6; ++k) {
+    const core::RgbdFrame frame = MakeFrame(texture, k);
+    ASSERT_EQ(system.Track(frame, system.Extract(frame.rgb), {}).state, TrackingState::kOk);
+  }
+  // Five frames with 8 keypoints left: too few to track, and said so.
+  for (int k = 6; k < 11; ++k) {
+    const core::RgbdFrame frame = MakeFrame(texture, k);
+    const ExtractedFeatures features = system.Extract(frame.rgb);
+    const TrackResult result = system.Track(frame, features, KeepFirst(features, 8));
+    EXPECT_EQ(result.state, TrackingState::kLost) << "frame " << k;
+    EXPECT_EQ(result.failure, TrackingFailure::kTooFewKeypoints) << "frame " << k;
+    EXPECT_FALSE(result.T_cw);
+  }
+  // A frame of another wall: plenty of keypoints, nothing of the map among them.
+  const core::RgbdFrame elsewhere = MakeFrame(MakeTexture(99), 11);
+  const TrackResult unknown = system.Track(elsewhere, system.Extract(elsewhere.rgb), {});
+  EXPECT_EQ(unknown.state, TrackingState::kLost);
+  EXPECT_EQ(unknown.failure, TrackingFailure::kTooFewMatches);
+  // The view clears: the camera kept sliding, and the motion model finds it where it was heading, without a
+  // search of the whole map.
+  for (int k = 12; k < 15; ++k) {
+    const core::RgbdFrame frame = MakeFrame(texture, k);
+    const TrackResult result = system.Track(frame, system.Extract(frame.rgb), {});
+    ASSERT_EQ(result.state, TrackingState::kOk) << "frame " << k;
+    EXPECT_EQ(result.method, TrackingMethod::kMotionModel) << "frame " << k;
+    EXPECT_EQ(result.failure, TrackingFailure::kNone);
+    EXPECT_LT((result.T_cw->translation() - TrueTranslation(k)).norm(), 0.005) << "frame " << k;
+  }
+}
+
 TEST(System, RejectsBadInput) {
   SystemOptions bad = Options();
   bad.bf = 0.0;

@@ -32,6 +32,12 @@ constexpr core::EnumNames<TrackingMethod, 5> kMethodNames = {{
     {TrackingMethod::kReferenceKeyFrame, "reference_keyframe"},
     {TrackingMethod::kRelocalization, "relocalization"},
 }};
+constexpr core::EnumNames<TrackingFailure, 4> kFailureNames = {{
+    {TrackingFailure::kNone, "none"},
+    {TrackingFailure::kTooFewKeypoints, "too_few_keypoints"},
+    {TrackingFailure::kTooFewMatches, "too_few_matches"},
+    {TrackingFailure::kPoseRejected, "pose_rejected"},
+}};
 
 // Matches needed before a pose optimisation is worth trying, and inliers after it for the first estimate.
 constexpr int kMinProjectionMatches = 20;
@@ -64,6 +70,7 @@ void ClearMatches(Frame& frame) {
 
 std::string_view ToString(TrackingState state) { return core::EnumName(kStateNames, state); }
 std::string_view ToString(TrackingMethod method) { return core::EnumName(kMethodNames, method); }
+std::string_view ToString(TrackingFailure failure) { return core::EnumName(kFailureNames, failure); }
 
 void TrackerOptions::Check() const {
   const auto positive = [](double value, const char* name) {
@@ -79,6 +86,19 @@ void TrackerOptions::Check() const {
   positive(relocalization_candidates, "Tracking.relocalizationCandidates");
   positive(keyframe_min_new_points, "Tracking.keyFrameMinNewPoints");
   positive(moving_point_depth, "Tracking.movingPointDepth");
+  positive(min_inliers_floor, "Tracking.minInliersFloor");
+  positive(max_motion_gap, "Tracking.maxMotionGap");
+  const auto in_unit = [](double value, const char* name) {
+    if (!(value > 0.0 && value <= 1.0)) {
+      throw core::InputError::ForParameter(name, fmt::format("must be in (0, 1], got {}", value));
+    }
+  };
+  in_unit(min_inlier_share, "Tracking.minInlierShare");
+  in_unit(min_inlier_ratio, "Tracking.minInlierRatio");
+  if (!(close_inlier_weight >= 1.0 && close_inlier_weight <= 3.0)) {
+    throw core::InputError::ForParameter("Tracking.closeInlierWeight",
+                                         fmt::format("must be in [1, 3], got {}", close_inlier_weight));
+  }
   if (moving_point_outliers < 0) {
     throw core::InputError::ForParameter("Tracking.movingPointOutliers",
                                          fmt::format("must be >= 0 (0: off), got {}", moving_point_outliers));
@@ -93,55 +113,61 @@ Tracker::Tracker(Map& map, LocalMapper& local_mapper, const TrackerOptions& opti
 TrackResult Tracker::Track(Frame frame) {
   TrackResult result;
   result.keypoints = frame.size();
-  bool ok = false;
+  TrackingFailure failure = TrackingFailure::kNone;
   bool make_keyframe = false;
+  // Tries a first estimate, then confirms it against the local map.
+  const auto attempt = [&](TrackingMethod method, TrackingFailure first_estimate) {
+    failure = first_estimate;
+    if (failure != TrackingFailure::kNone) return false;
+    result.method = method;
+    failure = TrackLocalMap(frame, result);
+    return failure == TrackingFailure::kNone;
+  };
+  bool ok = false;
   {
     std::shared_lock lock(map_.mutex());
     if (state_ == TrackingState::kNotInitialized) {
       // Initialisation writes the map: done below under the exclusive lock.
     } else {
+      // Local mapping may have fused points the last tracked frame matched, or moved its reference keyframe.
+      Frame& last = *last_frame_;
+      for (MapPoint*& p : last.map_points) {
+        if (p != nullptr) p = p->Current();
+      }
+      if (last_record_.reference != nullptr && !last_record_.reference->bad()) {
+        last.T_cw = last_record_.T_cr * last_record_.reference->T_cw();
+      }
+      const double gap = frame.timestamp - last.timestamp;
       if (state_ == TrackingState::kOk) {
-        // Local mapping may have fused points the last frame matched, or moved its reference keyframe.
-        Frame& last = *last_frame_;
-        for (MapPoint*& p : last.map_points) {
-          if (p != nullptr) p = p->Current();
-        }
-        const FrameRecord& last_record = records_.back();
-        if (last_record.reference != nullptr && !last_record.reference->bad()) {
-          last.T_cw = last_record.T_cr * last_record.reference->T_cw();
-        }
         const bool just_relocalized =
             last_relocalization_frame_id_ && frame.id <= *last_relocalization_frame_id_ + 2;
-        if (velocity_ && !just_relocalized && TrackWithMotionModel(frame)) {
-          result.method = TrackingMethod::kMotionModel;
-          ok = TrackLocalMap(frame, result);
-        }
+        if (velocity_ && !just_relocalized) ok = attempt(TrackingMethod::kMotionModel, TrackWithMotionModel(frame));
         // The prediction may have led to a wrong pose that the local map does not confirm: start again from the
         // reference keyframe before giving the frame up.
-        if (!ok && TrackReferenceKeyFrame(frame)) {
-          result.method = TrackingMethod::kReferenceKeyFrame;
-          ok = TrackLocalMap(frame, result);
+        if (!ok) ok = attempt(TrackingMethod::kReferenceKeyFrame, TrackReferenceKeyFrame(frame));
+      } else {
+        // Lost for a moment (people filled the view): the camera is most likely where it was heading.
+        if (velocity_ && gap <= options_.max_motion_gap) {
+          ok = attempt(TrackingMethod::kMotionModel, TrackWithMotionModel(frame));
         }
-      } else if (Relocalize(frame)) {
-        result.method = TrackingMethod::kRelocalization;
-        last_relocalization_frame_id_ = frame.id;
-        ok = TrackLocalMap(frame, result);
+        if (!ok) {
+          const TrackingFailure found = Relocalize(frame);
+          if (found == TrackingFailure::kNone) last_relocalization_frame_id_ = frame.id;
+          ok = attempt(TrackingMethod::kRelocalization, found);
+        }
       }
       if (ok) {
-        // A lost last frame has no pose to measure the motion from.
-        if (state_ == TrackingState::kOk) {
-          velocity_ = frame.T_cw * last_frame_->T_cw.inverse();
-          velocity_seconds_ = frame.timestamp - last_frame_->timestamp;
+        // The motion since the last tracked frame; over a long loss it says nothing of the next frame.
+        if (gap <= options_.max_motion_gap && result.method != TrackingMethod::kRelocalization) {
+          velocity_ = frame.T_cw * last.T_cw.inverse();
+          velocity_seconds_ = gap;
         } else {
           velocity_.reset();
         }
         make_keyframe = NeedNewKeyFrame(frame, result.inliers);
-      } else {
-        velocity_.reset();
       }
     }
   }
-
   if (!moving_points_.empty()) {
     std::unique_lock lock(map_.mutex());
     for (MapPoint* p : moving_points_) map_.ErasePoint(p);
@@ -176,16 +202,20 @@ TrackResult Tracker::Track(Frame frame) {
       std::shared_lock lock(map_.mutex());
       records_.push_back({frame.timestamp, reference_keyframe_, frame.T_cw * reference_keyframe_->T_wc()});
     }
+    last_record_ = records_.back();
     // The next frame searches from this one's inliers only.
     for (int i = 0; i < frame.size(); ++i) {
       if (frame.outlier[static_cast<std::size_t>(i)] != 0) frame.map_points[static_cast<std::size_t>(i)] = nullptr;
     }
+    last_frame_ = std::move(frame);
   } else {
     if (state_ == TrackingState::kOk) state_ = TrackingState::kLost;
     records_.push_back({frame.timestamp, nullptr, core::Pose::Identity()});
+    if (state_ == TrackingState::kLost) {
+      result.failure = frame.size() < options_.min_inliers_floor ? TrackingFailure::kTooFewKeypoints : failure;
+    }
   }
   result.state = state_;
-  last_frame_ = std::move(frame);
   return result;
 }
 
@@ -233,29 +263,35 @@ int Tracker::OptimizeFramePose(Frame& frame, bool drop_outliers) {
   return inliers;
 }
 
-bool Tracker::TrackWithMotionModel(Frame& frame) {
+TrackingFailure Tracker::TrackWithMotionModel(Frame& frame) {
   const Frame& last = *last_frame_;
-  frame.T_cw = ScaleMotion(*velocity_, velocity_seconds_, frame.timestamp - last.timestamp) * last.T_cw;
+  const double elapsed = frame.timestamp - last.timestamp;
+  frame.T_cw = ScaleMotion(*velocity_, velocity_seconds_, elapsed) * last.T_cw;
+  // After frames were lost the prediction is rougher: the window grows with them, as far as the motion is scaled.
+  const double frames = velocity_seconds_ > 0.0 ? std::clamp(elapsed / velocity_seconds_, 1.0, 4.0) : 1.0;
+  const double radius = options_.motion_search_radius * frames;
   ClearMatches(frame);
-  int matches = SearchByProjection(frame, last, options_.motion_search_radius);
+  int matches = SearchByProjection(frame, last, radius);
   if (matches < kMinProjectionMatches) {
     ClearMatches(frame);
-    matches = SearchByProjection(frame, last, 2.0 * options_.motion_search_radius);
+    matches = SearchByProjection(frame, last, 2.0 * radius);
   }
-  const int inliers = matches < kMinProjectionMatches ? 0 : OptimizeFramePose(frame, true);
+  if (matches < kMinProjectionMatches) return TrackingFailure::kTooFewMatches;
+  const int inliers = OptimizeFramePose(frame, true);
   spdlog::debug("frame {}: motion model: {} matches, {} inliers", frame.id, matches, inliers);
-  return inliers >= kMinFirstEstimateInliers;
+  return inliers >= kMinFirstEstimateInliers ? TrackingFailure::kNone : TrackingFailure::kPoseRejected;
 }
 
-bool Tracker::TrackReferenceKeyFrame(Frame& frame) {
-  if (reference_keyframe_ == nullptr || reference_keyframe_->bad()) return false;
+TrackingFailure Tracker::TrackReferenceKeyFrame(Frame& frame) {
+  if (reference_keyframe_ == nullptr || reference_keyframe_->bad()) return TrackingFailure::kTooFewMatches;
   ClearMatches(frame);
   const int matches = SearchByDescriptor(*reference_keyframe_, frame, frame.map_points);
   frame.T_cw = last_frame_->T_cw;
-  const int inliers = matches < kMinDescriptorMatches ? 0 : OptimizeFramePose(frame, true);
+  if (matches < kMinDescriptorMatches) return TrackingFailure::kTooFewMatches;
+  const int inliers = OptimizeFramePose(frame, true);
   spdlog::debug("frame {}: reference keyframe {}: {} matches, {} inliers", frame.id, reference_keyframe_->id(),
                 matches, inliers);
-  return inliers >= kMinFirstEstimateInliers;
+  return inliers >= kMinFirstEstimateInliers ? TrackingFailure::kNone : TrackingFailure::kPoseRejected;
 }
 
 std::vector<KeyFrame*> Tracker::LocalKeyFrames(Frame& frame) const {
@@ -300,7 +336,21 @@ std::vector<KeyFrame*> Tracker::LocalKeyFrames(Frame& frame) const {
   return local;
 }
 
-bool Tracker::TrackLocalMap(Frame& frame, TrackResult& result) {
+bool Tracker::Accepted(const Frame& frame, int inliers, int matched, int min_inliers) const {
+  if (inliers >= min_inliers) return true;
+  double support = 0.0;
+  const KeypointSet& keypoints = *frame.keypoints;
+  for (int i = 0; i < frame.size(); ++i) {
+    if (!frame.IsInlier(i)) continue;
+    const bool close = keypoints.has_depth(i) && keypoints.depth(i) < keypoints.sensor().close_depth;
+    support += close ? options_.close_inlier_weight : 1.0;
+  }
+  const int needed = std::clamp(static_cast<int>(std::ceil(options_.min_inlier_share * frame.size())),
+                                std::min(options_.min_inliers_floor, min_inliers), min_inliers);
+  return support >= needed && inliers >= options_.min_inlier_ratio * matched;
+}
+
+TrackingFailure Tracker::TrackLocalMap(Frame& frame, TrackResult& result) {
   const std::vector<KeyFrame*> local_keyframes = LocalKeyFrames(frame);
   std::unordered_set<const MapPoint*> in_frame;
   for (MapPoint* p : frame.map_points) {
@@ -336,7 +386,10 @@ bool Tracker::TrackLocalMap(Frame& frame, TrackResult& result) {
   const bool relocalized_lately =
       last_relocalization_frame_id_ &&
       frame.id < *last_relocalization_frame_id_ + static_cast<std::uint64_t>(options_.keyframe_max_interval);
-  return result.inliers >= (relocalized_lately ? options_.min_inliers_after_relocalization : options_.min_inliers);
+  const int min_inliers = relocalized_lately ? options_.min_inliers_after_relocalization : options_.min_inliers;
+  if (Accepted(frame, result.inliers, result.matched, min_inliers)) return TrackingFailure::kNone;
+  return result.matched < std::min(options_.min_inliers_floor, min_inliers) ? TrackingFailure::kTooFewMatches
+                                                                            : TrackingFailure::kPoseRejected;
 }
 
 void Tracker::FindMovingPoints(const Frame& frame, const TrackResult& result) {
@@ -425,11 +478,11 @@ void Tracker::CreateKeyFrame(Frame& frame) {
   last_keyframe_frame_id_ = frame.id;
 }
 
-bool Tracker::Relocalize(Frame& frame) {
+TrackingFailure Tracker::Relocalize(Frame& frame) {
   const KeypointSet& keypoints = *frame.keypoints;
-  if (keypoints.size() < kMinDescriptorMatches) return false;
+  if (keypoints.size() < kMinDescriptorMatches) return TrackingFailure::kTooFewMatches;
   const std::vector<KeyFrame*> keyframes = map_.KeyFrames();
-  if (keyframes.empty()) return false;
+  if (keyframes.empty()) return TrackingFailure::kTooFewMatches;
 
   // Votes: how often a keyframe's strongest points hold the nearest neighbour of one of the frame's descriptors.
   constexpr int kSignatureSize = 64;
@@ -451,7 +504,7 @@ bool Tracker::Relocalize(Frame& frame) {
       owner.push_back(static_cast<int>(k));
     }
   }
-  if (signatures.empty()) return false;
+  if (signatures.empty()) return TrackingFailure::kTooFewMatches;
   std::vector<cv::DMatch> nearest;
   cv::BFMatcher(cv::NORM_HAMMING).match(keypoints.descriptors(), signatures, nearest);
   std::vector<int> votes(keyframes.size(), 0);
@@ -543,11 +596,11 @@ bool Tracker::Relocalize(Frame& frame) {
                   candidate->id(), inliers.size(), good);
     if (good >= options_.min_inliers_after_relocalization) {
       frame.reference_keyframe = candidate;
-      return true;
+      return TrackingFailure::kNone;
     }
   }
   ClearMatches(frame);
-  return false;
+  return ranked.empty() ? TrackingFailure::kTooFewMatches : TrackingFailure::kPoseRejected;
 }
 
 }  // namespace hoidslam::slam

@@ -3,8 +3,10 @@
 // with depth starts the map. After that each frame is tracked by a constant-velocity prediction with a search by
 // projection from the last frame, or, when that fails, by descriptor matching against the reference keyframe; the
 // pose is then refined against the local map (the keyframes sharing points with the frame and their neighbours).
-// A lost frame is relocalised by descriptor matching against keyframes and PnP RANSAC. The tracker decides when a
-// frame becomes a keyframe and hands it to local mapping.
+// After a short loss (people filling the view for a moment) the motion model from the last tracked frame is tried
+// first, with a search widened by the time lost; then the frame is relocalised by descriptor matching against
+// keyframes and PnP RANSAC. A frame with few keypoints needs fewer inliers (TrackerOptions). The tracker decides
+// when a frame becomes a keyframe and hands it to local mapping.
 //
 // The frames it is given hold only the keypoints the exclusion filter kept, so dropped keypoints take part in
 // nothing: matching, optimisation, new map points and relocalisation never see them.
@@ -28,6 +30,12 @@ std::string_view ToString(TrackingState state);
 enum class TrackingMethod { kNone, kInitialization, kMotionModel, kReferenceKeyFrame, kRelocalization };
 std::string_view ToString(TrackingMethod method);
 
+// Why a frame was not tracked: it had fewer keypoints than the inliers it would need; its keypoints found too few
+// map points to try a pose (or, after the first estimate, to confirm it against the local map); or the pose
+// optimisation kept too few of its matches as inliers.
+enum class TrackingFailure { kNone, kTooFewKeypoints, kTooFewMatches, kPoseRejected };
+std::string_view ToString(TrackingFailure failure);
+
 struct TrackerOptions {
   // Keypoints with depth a frame needs to start the map. ORB-SLAM asks for 500 keypoints; a room whose back wall
   // is beyond the sensor's range, with people's features dropped, can have fewer with depth in every frame.
@@ -36,6 +44,19 @@ struct TrackerOptions {
   double local_search_radius = 3.0;    // pixels at level 0 (before the oblique-view factor), local-map search
   int min_inliers = 30;                // local-map inliers for a frame to count as tracked
   int min_inliers_after_relocalization = 50;  // the same during the first second after relocalising
+  // A frame with few keypoints (people fill the view, the filter dropped most of it) is tracked on what it has,
+  // by support rather than count: an inlier whose depth is nearer than the close depth counts
+  // close_inlier_weight times (its depth pins the point in 3D: three constraints on the pose where a far one gives
+  // two), and the support needed falls to min_inlier_share of the frame's keypoints, never below
+  // min_inliers_floor. The risk: a pose resting on a few points in one corner of the image is less certain, and a
+  // wrong one corrupts the map; so the lower bar also asks that at least min_inlier_ratio of the matches be
+  // inliers (a wrong pose fits few), and frames that clear min_inliers by count alone are judged as before.
+  int min_inliers_floor = 15;
+  double min_inlier_share = 0.3;
+  double close_inlier_weight = 1.5;
+  double min_inlier_ratio = 0.5;
+  // A loss shorter than this (seconds since the last tracked frame) is bridged by the motion model first.
+  double max_motion_gap = 1.0;
   int max_local_keyframes = 80;
   int keyframe_max_interval = 30;      // frames; a keyframe at least this often (ORB-SLAM: the frame rate)
   // A new keyframe makes map points of all its untracked close keypoints and, nearest first, of far ones until it
@@ -62,6 +83,7 @@ struct TrackResult {
   int inliers = 0;    // of those, kept by it
   bool keyframe = false;  // the frame became a keyframe
   int moving_points = 0;  // map points the safety net erased on this frame
+  TrackingFailure failure = TrackingFailure::kNone;  // when not tracked (after initialisation)
   std::optional<core::Pose> T_cw;  // when tracked
 };
 
@@ -83,13 +105,17 @@ class Tracker {
 
  private:
   bool Initialize(Frame& frame);
-  bool TrackWithMotionModel(Frame& frame);
-  bool TrackReferenceKeyFrame(Frame& frame);
-  bool Relocalize(Frame& frame);
+  // The first pose estimates: kNone when found, else why not. The motion model predicts from the last tracked
+  // frame, `elapsed` seconds on, and searches within a radius grown with the frames elapsed.
+  TrackingFailure TrackWithMotionModel(Frame& frame);
+  TrackingFailure TrackReferenceKeyFrame(Frame& frame);
+  TrackingFailure Relocalize(Frame& frame);
   // Refines frame.T_cw from its matches; clears outlier matches when `drop_outliers`; returns the inliers.
   int OptimizeFramePose(Frame& frame, bool drop_outliers);
-  // Refines the pose against the local map; fills result.matched / inliers; true when enough inliers remain.
-  bool TrackLocalMap(Frame& frame, TrackResult& result);
+  // Refines the pose against the local map; fills result.matched / inliers; kNone when enough inliers remain.
+  TrackingFailure TrackLocalMap(Frame& frame, TrackResult& result);
+  // Whether a pose with these inliers stands (TrackerOptions: the count, or the support on a frame that has little).
+  bool Accepted(const Frame& frame, int inliers, int matched, int min_inliers) const;
   std::vector<KeyFrame*> LocalKeyFrames(Frame& frame) const;
   // The safety net: counts the frame's misfitting matches and collects the points that misfit too often.
   void FindMovingPoints(const Frame& frame, const TrackResult& result);
@@ -101,7 +127,9 @@ class Tracker {
   TrackerOptions options_;
 
   TrackingState state_ = TrackingState::kNotInitialized;
+  // The last tracked frame (the last frame while tracking, the one before the loss when lost) and its record.
   std::optional<Frame> last_frame_;
+  FrameRecord last_record_;
   KeyFrame* last_keyframe_ = nullptr;
   KeyFrame* reference_keyframe_ = nullptr;
   // The last measured motion, T_cl (last camera to current camera), and the time it took: a prediction scales it
