@@ -63,16 +63,17 @@ std::vector<double> ParseSweep(const std::string& text, const std::string& param
 
 fs::path SelfPath() { return fs::canonical("/proc/self/exe"); }
 
-void PrintOutcome(const bench::BenchOutcome& outcome) {
+// The ATE table, and the closing line naming what was written (report.html only when it was).
+void PrintOutcome(const bench::BenchOutcome& outcome, bool report_written) {
   fmt::print("{}\n", bench::FindTable(outcome.tables, "ate")->ToMarkdown());
-  fmt::print("wrote {}/ (tables.md, tables/*.csv, results.json, runs/)\n", outcome.plan.folder.string());
+  fmt::print("wrote {}/ (tables.md, tables/*.csv, results.json, {}runs/)\n", outcome.plan.folder.string(),
+             report_written ? "report.html, " : "");
 }
 
 void RunBenchCommand(const BenchArgs& args) {
   if (args.collect) {
     const bench::BenchOutcome outcome = bench::CollectBench(args.out);
-    bench::WriteBenchOutputs(outcome);
-    PrintOutcome(outcome);
+    PrintOutcome(outcome, bench::WriteBenchOutputs(outcome));
     return;
   }
   bench::BenchRequest request;
@@ -103,8 +104,7 @@ void RunBenchCommand(const BenchArgs& args) {
   }
   core::InterruptGuard interrupts;
   const bench::BenchOutcome outcome = bench::RunBench(request, [&interrupts] { return interrupts.requested(); });
-  bench::WriteBenchOutputs(outcome);
-  PrintOutcome(outcome);
+  PrintOutcome(outcome, bench::WriteBenchOutputs(outcome));
   if (outcome.interrupted) {
     spdlog::warn("interrupted: the tables hold the runs finished so far; --resume runs the rest");
     std::fflush(stdout);

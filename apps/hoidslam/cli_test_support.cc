@@ -11,6 +11,7 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
 
 #include "support/text_file.h"
 
@@ -74,5 +75,31 @@ fs::path Render(const testing::TempDir& scratch, const std::string& scenario, St
 }
 
 nlohmann::json Summary(const fs::path& out) { return nlohmann::json::parse(testing::ReadText(out / "summary.json")); }
+
+cv::Mat ChromiumScreenshot(const testing::TempDir& scratch, const fs::path& html, cv::Size window) {
+  const std::string chromium = HOIDSLAM_CHROMIUM;
+  if (chromium.empty()) {
+    ADD_FAILURE() << "no chromium was found when the build was configured: install the Debian package chromium "
+                     "(scripts/setup.sh does) and configure again";
+    return {};
+  }
+  const fs::path png = scratch / "screenshot.png";
+  fs::remove(png);  // a screenshot of an earlier page must not pass for this one's
+  const RunResult browser = RunProgram(
+      scratch,
+      {"timeout", "--kill-after=10", "120", chromium, "--headless", "--no-sandbox", "--disable-gpu",
+       "--disable-dev-shm-usage", "--disable-background-networking", "--no-first-run",
+       "--user-data-dir=" + (scratch / "chromium").string(), "--hide-scrollbars",
+       "--window-size=" + std::to_string(window.width) + "," + std::to_string(window.height),
+       "--screenshot=" + png.string(),
+       "file://" + html.string()});
+  if (browser.exit_status != 0) {
+    ADD_FAILURE() << chromium << " exited with status " << browser.exit_status << ": " << browser.err;
+    return {};
+  }
+  cv::Mat shot = cv::imread(png.string(), cv::IMREAD_COLOR);
+  if (shot.empty()) ADD_FAILURE() << png << ": no screenshot: " << browser.err;
+  return shot;
+}
 
 }  // namespace hoidslam::apps

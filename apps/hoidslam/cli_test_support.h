@@ -9,6 +9,7 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
 
 #include "hoidslam/core/sanitizers.h"
 #include "support/temp_dir.h"
@@ -53,5 +54,10 @@ std::filesystem::path Render(const testing::TempDir& scratch, const std::string&
 
 // The summary.json of a run folder.
 nlohmann::json Summary(const std::filesystem::path& out);
+
+// A screenshot of the page `html` as headless Chromium renders it in a window of `window` pixels (the browser found
+// when the build was configured). Without a browser, or when it fails, adds a test failure that says why and
+// returns an empty image.
+cv::Mat ChromiumScreenshot(const testing::TempDir& scratch, const std::filesystem::path& html, cv::Size window);
 
 }  // namespace hoidslam::apps

@@ -58,7 +58,7 @@ void RunDemo(const DemoArgs& args) {
   std::fflush(stdout);
   core::InterruptGuard interrupts;
   const bench::BenchOutcome outcome = bench::RunBench(request, [&interrupts] { return interrupts.requested(); });
-  bench::WriteBenchOutputs(outcome);
+  const bool report_written = bench::WriteBenchOutputs(outcome);
   if (outcome.interrupted) interrupts.Reraise();
 
   fmt::print("\n{}\n", bench::FindTable(outcome.tables, "ate")->ToMarkdown());
@@ -69,7 +69,7 @@ void RunDemo(const DemoArgs& args) {
                "smaller ({:.1f} mm instead of {:.1f} mm).\n",
                *none / *hoid, 1e3 * *hoid, 1e3 * *none);
   }
-  fmt::print("Report: {}\n", (request.folder / "report.html").string());
+  if (report_written) fmt::print("Report: {}\n", (request.folder / "report.html").string());
 }
 
 }  // namespace

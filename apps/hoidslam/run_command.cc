@@ -7,8 +7,10 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
@@ -169,8 +171,11 @@ void RunRun(const RunArgs& args) {
     file.stream() << json.dump(2) << '\n';
     file.Commit();
   }
+  std::vector<std::string> written = {"trajectory.txt", "keyframes.txt", "map.ply", "frames.jsonl", "summary.json"};
+  if (fs::is_directory(out.temporary() / "snapshots")) written.push_back("snapshots/");
   try {
     report::WriteRunReport(out.temporary(), evaluation ? groundtruth : fs::path(), out.temporary() / "report.html");
+    written.push_back("report.html");
   } catch (const core::InputError& e) {
     spdlog::warn("no report.html: {}", e.what());  // the run's own outputs are complete; only the page is missing
   }
@@ -210,8 +215,7 @@ void RunRun(const RunArgs& args) {
              ms["load"].get<double>(), ms["extract"].get<double>(), ms["detect"].get<double>(),
              ms["filter"].get<double>(), ms["track"].get<double>(), ms["tracking_total"].get<double>());
   if (evaluation) fmt::print("{}", eval::FormatEvaluation(*evaluation));
-  fmt::print("wrote {}/ (trajectory.txt, keyframes.txt, map.ply, frames.jsonl, summary.json, snapshots/, report.html)\n",
-             out.path().string());
+  fmt::print("wrote {}/ ({})\n", out.path().string(), fmt::join(written, ", "));
   if (summary.interrupted) {
     spdlog::warn("interrupted after {} of {} frames; the outputs hold the frames done", summary.frames, sequence.size());
     std::fflush(stdout);  // the signal raised again ends the process without flushing the summary printed above

@@ -258,7 +258,7 @@ BenchOutcome CollectBench(const fs::path& folder) {
   return outcome;
 }
 
-void WriteBenchOutputs(const BenchOutcome& outcome) {
+bool WriteBenchOutputs(const BenchOutcome& outcome) {
   const Plan& plan = outcome.plan;
   nlohmann::json runs = nlohmann::json::array();
   for (std::size_t i = 0; i < plan.runs.size(); ++i) {
@@ -282,13 +282,16 @@ void WriteBenchOutputs(const BenchOutcome& outcome) {
     WriteText(plan.folder / "tables" / (named.name + ".csv"), t.ToCsv());
   }
   WriteText(plan.folder / "tables.md", markdown);
-  try {
-    WriteText(plan.folder / "report.html", RenderBenchReport(outcome));
-  } catch (const core::InputError& e) {
-    spdlog::warn("no report.html: {}", e.what());  // the tables are complete; only the page is missing
-  }
   WriteText(plan.folder / "results.json",
             nlohmann::json{{"plan", PlanToJson(plan)}, {"runs", runs}, {"tables", tables}}.dump(2) + "\n");
+  try {
+    WriteText(plan.folder / "report.html", RenderBenchReport(outcome));
+    return true;
+  } catch (const core::InputError& e) {
+    fs::remove(plan.folder / "report.html");
+    spdlog::warn("no report.html: {}", e.what());  // the tables are complete; only the page is missing
+    return false;
+  }
 }
 
 std::string RenderBenchReport(const BenchOutcome& outcome) {
@@ -334,19 +337,21 @@ std::string RenderBenchReport(const BenchOutcome& outcome) {
       .svg_figures = {},
       .html = {}};
   for (std::size_t s = 0; s < plan.sequences.size(); ++s) {
+    // A recording without ground truth has no trajectory to draw over it, but its annotated frames all the same.
     const fs::path groundtruth = plan.sequences[s].path / "groundtruth.txt";
-    if (!fs::exists(groundtruth)) continue;
     std::vector<report::RunReport> runs;
     std::vector<std::string> labels;
     for (const std::string mode : {"none", "hoid2d", "oracle"}) {
-      if (const std::optional<std::size_t> i = MedianRun(outcome, s, mode)) {
+      const std::optional<std::size_t> i = MedianRun(outcome, s, mode);
+      if (i && fs::exists(groundtruth)) {
         runs.push_back(report::LoadRunReport(plan.RunFolder(plan.runs[*i]), groundtruth));
         labels.push_back(fmt::format("{} {} (run {})", plan.sequences[s].name, mode, plan.runs[*i].run));
       }
     }
-    if (runs.empty()) continue;
-    trajectories.svg_figures.push_back(report::TrajectoryOverlaySvg(runs, labels));
-    trajectories.svg_figures.push_back(report::AteOverTimeSvg(runs, labels));
+    if (!runs.empty()) {
+      trajectories.svg_figures.push_back(report::TrajectoryOverlaySvg(runs, labels));
+      trajectories.svg_figures.push_back(report::AteOverTimeSvg(runs, labels));
+    }
     // Snapshots are kept from each mode's first run only (BenchOptions::snapshots).
     for (std::size_t i = 0; i < plan.runs.size(); ++i) {
       const RunSpec& spec = plan.runs[i];
@@ -361,13 +366,16 @@ std::string RenderBenchReport(const BenchOutcome& outcome) {
   if (!trajectories.svg_figures.empty()) sections.push_back(std::move(trajectories));
   if (!frames.html.empty()) sections.push_back(std::move(frames));
 
-  const auto section = [&](std::string heading, std::string text, const std::vector<std::string>& names) {
+  // A section of the tables `names`; without any of them, left out, or `without_tables` said instead.
+  const auto section = [&](std::string heading, std::string text, const std::vector<std::string>& names,
+                           std::string without_tables = "") {
     report::BenchReportSection result{.heading = std::move(heading), .text = std::move(text), .tables = {},
                                       .svg_figures = {}, .html = {}};
     for (const std::string& name : names) {
       if (const report::Table* table = FindTable(outcome.tables, name)) result.tables.push_back(*table);
     }
-    if (!result.tables.empty()) sections.push_back(std::move(result));
+    if (result.tables.empty()) result.text = std::move(without_tables);
+    if (!result.text.empty() || !result.tables.empty()) sections.push_back(std::move(result));
   };
   section("The paper's tables", "ATE statistics (Tables 3 and 5), 2D against 3D (Table 6) and the sweeps (Table 2).",
           {"ate_statistics", "hoid_2d_3d", "area_sweep", "depth_sweep"});
@@ -375,7 +383,9 @@ std::string RenderBenchReport(const BenchOutcome& outcome) {
   section("Exclusion quality",
           "Against the ground-truth moving masks: leaked is the share of keypoints on moving things kept for "
           "tracking, wasted the share of static keypoints dropped.",
-          {"leaked", "wasted"});
+          {"leaked", "wasted"},
+          "Not scored: none of the sequences has ground-truth masks (mask/) to tell which keypoints lay on moving "
+          "things, as real recordings have none.");
   section("Time per stage", "", {"timing"});
   return report::RenderBenchHtml("hoidslam bench", intro, sections);
 }

@@ -53,7 +53,9 @@ Plan WriteBenchPlan(const BenchRequest& request);
 BenchOutcome CollectBench(const std::filesystem::path& folder);
 
 // results.json, tables.md, tables/<name>.csv and report.html in the plan's folder, each complete or absent.
-void WriteBenchOutputs(const BenchOutcome& outcome);
+// Returns whether report.html was written: a page that cannot be made (a run folder it reads is broken) is a
+// warning saying why, and the page of an earlier collect is removed, since it would show other results.
+[[nodiscard]] bool WriteBenchOutputs(const BenchOutcome& outcome);
 
 // The bench as one self-contained HTML page: ATE per mode and sequence as a chart and every table, and for each
 // sequence the trajectories of `none`, `hoid2d` and `oracle` (each mode's median run) over the ground truth.

@@ -61,7 +61,12 @@ class Grid {
       const bool none_tracked = std::all_of(group.ok.begin(), group.ok.end(), [](const RunResult* r) {
         return r->tracked == 0;
       });
-      return none_tracked ? "no pose" : "n/a";
+      if (none_tracked) return "no pose";
+      // No run could be scored: the sequence has no ground truth, or no ground-truth masks (a real recording).
+      const bool none_scored = std::none_of(group.ok.begin(), group.ok.end(), [&](const RunResult* r) {
+        return value(*r).has_value();
+      });
+      return none_scored ? "–" : "n/a";
     }
     return format(*median) + Shortfall(sequence, *variant);
   }
@@ -105,7 +110,8 @@ std::string RunsNote(const Plan& plan, std::size_t runs) {
     note += fmt::format(" (detector latency {} ms)", plan.options.detector_latency_ms);
   }
   note += "; (k/n): only k of n runs finished; failed: no run finished; no pose: the runs finished without "
-          "tracking a frame (the map never started); –: not applicable.";
+          "tracking a frame (the map never started); –: not applicable (such as no ground truth, or no "
+          "ground-truth masks to score exclusion quality against).";
   for (const BenchSequence& s : plan.sequences) {
     if (!s.problem.empty()) note += fmt::format(" {} is missing: {}.", s.name, s.problem);
   }

@@ -124,6 +124,56 @@ TEST(BuildTables, RunsThatNeverTrackedSaySoInsteadOfANumber) {
   EXPECT_EQ(Find(tables, "lost").rows[0][1], "100");
 }
 
+// Real recordings: no ground-truth masks, so no exclusion quality; one of them without ground truth either.
+TEST(BuildTables, WhatARealRecordingCannotBeScoredOnIsNotApplicable) {
+  BenchOptions options;
+  options.runs = 2;
+  options.modes = {"none", "hoid2d"};
+  options.area_sweep = {};
+  options.depth_sweep = {};
+  const auto real = [](double ate) {
+    RunResult r = Ok(ate);
+    r.leaked.reset();
+    r.wasted.reset();
+    return r;
+  };
+  RunResult unscored = real(0.0);
+  unscored.ate_rmse.reset();
+  unscored.ate_mean.reset();
+  unscored.ate_median.reset();
+  unscored.rpe_translation_rmse.reset();
+  unscored.rpe_rotation_rmse.reset();
+  const Plan plan = MakePlan(
+      options, {SyntheticSequence("walking_xyz"), TumSequence("walking_halfsphere"), TumSequence("no_groundtruth")},
+      "/bin/hoidslam", "/b");
+  std::vector<RunResult> results;
+  for (const RunSpec& spec : plan.runs) {
+    const std::string& sequence = plan.sequences[spec.sequence].name;
+    results.push_back(sequence == "walking_xyz" ? Ok(0.01) : sequence == "walking_halfsphere" ? real(0.02) : unscored);
+  }
+  const std::vector<NamedTable> tables = BuildTables(plan, results);
+  EXPECT_THAT(Find(tables, "ate").rows[1], ElementsAre("walking_halfsphere", "0.0200", "0.0200"));
+  EXPECT_THAT(Find(tables, "ate").rows[2], ElementsAre("no_groundtruth", "–", "–"));
+  EXPECT_THAT(Find(tables, "ate_statistics").rows[2], ElementsAre("no_groundtruth", "–", "–"));
+  EXPECT_THAT(Find(tables, "rpe_rotation").rows[2], ElementsAre("no_groundtruth", "–", "–"));
+  for (const char* name : {"leaked", "wasted"}) {
+    const report::Table& table = Find(tables, name);
+    EXPECT_NE(table.rows[0][1], "–") << name;
+    EXPECT_THAT(table.rows[1], ElementsAre("walking_halfsphere", "–", "–")) << name;
+    EXPECT_THAT(table.rows[3], ElementsAre("median of the sequences", "–", "–")) << name;
+  }
+  EXPECT_THAT(Find(tables, "ate").note, ::testing::HasSubstr("no ground-truth masks"));
+
+  // Only real recordings: no exclusion-quality tables at all, every other table still there.
+  const Plan real_only = MakePlan(options, {TumSequence("walking_halfsphere")}, "/bin/hoidslam", "/b");
+  const std::vector<NamedTable> real_tables =
+      BuildTables(real_only, std::vector<RunResult>(real_only.runs.size(), real(0.02)));
+  EXPECT_EQ(FindTable(real_tables, "leaked"), nullptr);
+  EXPECT_EQ(FindTable(real_tables, "wasted"), nullptr);
+  EXPECT_THAT(Find(real_tables, "ate").rows[0], ElementsAre("walking_halfsphere", "0.0200", "0.0200"));
+  EXPECT_EQ(Find(real_tables, "timing").rows[0][7], "2");
+}
+
 TEST_F(BenchTables, LostExclusionQualityAndTiming) {
   EXPECT_EQ(Find(tables_, "lost").rows[0][1], "0");  // median of 0, 0, 2
   EXPECT_EQ(Find(tables_, "leaked").rows[0][2], "10.0 %");

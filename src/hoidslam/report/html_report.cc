@@ -123,7 +123,8 @@ void ReadSummary(const fs::path& path, RunReport& report) {
     if (median.contains(stage)) report.median_ms.push_back({stage, fields.Get<double>(median, stage)});
   }
   if (median.contains("tracking_total")) report.median_tracking_ms = fields.Get<double>(median, "tracking_total");
-  if (summary.contains("exclusion_quality")) {
+  // null (or absent) on a sequence without ground-truth moving masks, such as every real recording.
+  if (summary.contains("exclusion_quality") && !summary.at("exclusion_quality").is_null()) {
     const json& quality = fields.Object(summary, "exclusion_quality");
     report.exclusion_quality = ExclusionQuality{fields.Get<double>(quality, "leaked"),
                                                 fields.Get<double>(quality, "wasted"),
@@ -496,8 +497,13 @@ std::string TimingSection(const RunReport& report) {
 std::string ExclusionSection(const RunReport& report) {
   const bool per_frame = std::any_of(report.frame_log.begin(), report.frame_log.end(),
                                      [](const FrameRecord& f) { return f.exclusion.has_value(); });
-  if (!report.exclusion_quality && !per_frame) return "";
   std::string html = "<section>\n<h2>Exclusion against the moving pixels</h2>\n";
+  if (!report.exclusion_quality && !per_frame) {
+    // A real recording has no per-pixel truth of what moved: say so rather than leave the reader to wonder.
+    return html + Note("Not scored: the sequence has no ground-truth masks of the moving pixels (a mask/ folder, as "
+                       "hoidslam synth writes), so which keypoints lay on moving things is unknown.") +
+           "</section>\n";
+  }
   if (report.exclusion_quality) {
     const ExclusionQuality& q = *report.exclusion_quality;
     const ExclusionCounts& c = q.counts;

@@ -4,8 +4,8 @@
 //
 // The run report shows one folder written by `hoidslam run` (docs/slam.md, "Outputs"): its counts, the
 // trajectory seen from above against ground truth, the ATE over time, the features per frame, the time per stage,
-// how well the exclusion matched the moving pixels (when the run recorded it) and the annotated snapshots (when
-// the run saved any). The bench report is a page of sections that `hoidslam bench` fills with tables and charts.
+// how well the exclusion matched the moving pixels (or that the sequence has no ground-truth masks to score it
+// against) and the annotated snapshots (when the run saved any). The bench report is a page of sections that `hoidslam bench` fills with tables and charts.
 
 #include <array>
 #include <cstddef>
@@ -106,7 +106,7 @@ struct RunReport {
   bool interrupted = false;
   std::vector<StageTime> median_ms;           // the stages present, in pipeline order
   std::optional<double> median_tracking_ms;   // extraction + filter + tracking, the budgeted figure
-  std::optional<ExclusionQuality> exclusion_quality;
+  std::optional<ExclusionQuality> exclusion_quality;  // none when the sequence has no ground-truth moving masks
 
   std::vector<FrameRecord> frame_log;  // frames.jsonl, in file order
   core::Trajectory estimate;           // trajectory.txt

@@ -260,6 +260,47 @@ TEST(RenderRunHtml, WithoutGroundTruthShowsTheEstimateAndSaysSo) {
   EXPECT_THAT(html, Not(HasSubstr("Annotated frames")));
 }
 
+// A run on a sequence without ground-truth moving masks, as on every real recording: summary.json's
+// exclusion_quality is null and no frame has an exclusion count.
+TEST(RenderRunHtml, WithoutMovingMasksSaysExclusionIsNotScored) {
+  const TempDir scratch;
+  const fs::path run = scratch / "run";
+  const fs::path groundtruth = WriteRunFolder(run);
+  std::string frames = ReadText(run / "frames.jsonl");
+  const std::string counts =
+      R"("exclusion": {"moving_kept": 10, "moving_dropped": 50, "static_kept": 735, "static_dropped": 15}, )";
+  for (std::size_t at; (at = frames.find(counts)) != std::string::npos;) frames.erase(at, counts.size());
+  WriteText(run / "frames.jsonl", frames);
+  std::string summary(kSummary);
+  const std::size_t quality = summary.find("\"exclusion_quality\"");
+  summary.replace(quality, summary.rfind('}') - quality, R"("exclusion_quality": null)");
+  WriteText(run / "summary.json", summary);
+
+  const RunReport report = LoadRunReport(run, groundtruth);
+  EXPECT_FALSE(report.exclusion_quality);
+  EXPECT_FALSE(report.frame_log.at(2).exclusion);
+  const std::string html = RenderRunHtml(report);
+  EXPECT_EQ(report::testing::UnbalancedTags(html), "");
+  EXPECT_THAT(html, HasSubstr("<h2>Exclusion against the moving pixels</h2>"));
+  EXPECT_THAT(html, HasSubstr("no ground-truth masks"));
+  EXPECT_THAT(html, Not(HasSubstr("leaked:")));
+  EXPECT_THAT(html, Not(HasSubstr("Exclusion errors per frame")));
+  EXPECT_THAT(html, Not(HasSubstr("moving keypoints kept")));  // in the snapshot's caption
+  EXPECT_THAT(html, HasSubstr("ATE over time"));               // the rest of the page is all there
+
+  // Left out altogether, as a folder of an older hoidslam has it: the same page.
+  const std::size_t comma = summary.rfind(',', quality);
+  summary.erase(comma, summary.rfind('}') - comma);
+  WriteText(run / "summary.json", summary);
+  EXPECT_EQ(RenderRunHtml(LoadRunReport(run, groundtruth)), html);
+
+  // Anything but an object or null is still an error naming the file and the member.
+  summary.insert(summary.rfind('}'), R"(, "exclusion_quality": 0.5)");
+  WriteText(run / "summary.json", summary);
+  EXPECT_THAT(InputErrorOf([&] { LoadRunReport(run, {}); }),
+              HasSubstr("summary.json: 'exclusion_quality' must be an object, not number"));
+}
+
 TEST(WriteRunReport, WritesThePageOrNothing) {
   const TempDir scratch;
   const fs::path groundtruth = WriteRunFolder(scratch / "run");
