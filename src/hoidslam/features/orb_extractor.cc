@@ -319,11 +319,6 @@ void OrbExtractor::DetectCorners(int index, const cv::Mat& excluded) {
     for (const Corner& c : level.strong) {
       if (outside(c.x, c.y)) level.corners.push_back(c);
     }
-    // Too few strong corners outside the mask for the level's share: the threshold is lowered over all of it,
-    // not only in the cells that have none (a corner scoring >= iniThFAST is found again at minThFAST).
-    if (static_cast<int>(level.corners.size()) < features_per_level_[static_cast<std::size_t>(index)]) {
-      level.corners.clear();
-    }
   }
   level.cell_strong.assign(static_cast<std::size_t>(columns * rows), 0);
   for (const Corner& c : level.corners) {

@@ -175,14 +175,14 @@ cv::Mat KeypointExclusion::PaintDropped(const core::RgbdFrame& frame, const hoid
   return PaintDynamicBoxes(boxes.detections, boxes.decisions, frame.rgb.size());
 }
 
-cv::Mat KeypointExclusion::DroppedPixels(const core::RgbdFrame& frame, const hoid::JudgedBoxes& boxes,
+cv::Mat KeypointExclusion::DynamicPixels(const core::RgbdFrame& frame, const hoid::JudgedBoxes& boxes,
                                          std::span<const cv::KeyPoint> keypoints,
                                          std::span<const std::uint8_t> keep) const {
   cv::Mat dropped;
   if (options_.oracle) {
     cv::compare(MovingMask(frame), 0, dropped, cv::CMP_NE);  // Mark drops on any non-zero value
   } else {
-    dropped = PaintDropped(frame, boxes);
+    dropped = PaintDynamicBoxes(boxes.detections, boxes.decisions, frame.rgb.size());
   }
   for (std::size_t i = 0; i < keypoints.size(); ++i) {
     if (keep[i] != 0) continue;

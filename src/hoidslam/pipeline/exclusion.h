@@ -94,10 +94,12 @@ class KeypointExclusion {
   // The pixels the frame last marked drops, CV_8UC1 255 = dropped (not for oracle, whose mask is its own):
   // the dynamic boxes, or for hoidplus with depth their foreground regions.
   cv::Mat PaintDropped(const core::RgbdFrame& frame, const hoid::JudgedBoxes& boxes) const;
-  // Where no keypoint may be given back to tracking once Mark has dropped `keep`'s zeros, CV_8UC1 255 = dropped:
-  // PaintDropped's pixels (for oracle, the moving mask), and the pixel every dropped keypoint rounds to, so that
-  // a keypoint the filter dropped at a region's edge is not taken up again.
-  cv::Mat DroppedPixels(const core::RgbdFrame& frame, const hoid::JudgedBoxes& boxes,
+  // Where the frame last marked has something dynamic, CV_8UC1 255 = dynamic: a second extraction looks for no
+  // keypoint there. The dynamic boxes whole (for hoidplus too: its depth test keeps what lies behind a person, but
+  // the person's outline in colour, where the depth image has the background, is no place to look for more; on
+  // walking_xyz hoidplus drifted from 3.4 to 11 mm when it did), for oracle the moving mask, and the pixel every
+  // keypoint `keep` drops rounds to, so that none is taken up again.
+  cv::Mat DynamicPixels(const core::RgbdFrame& frame, const hoid::JudgedBoxes& boxes,
                         std::span<const cv::KeyPoint> keypoints, std::span<const std::uint8_t> keep) const;
 
   // Whether the sequence has ground-truth moving masks to score against.

@@ -147,27 +147,29 @@ class FrameDetections {
   std::optional<DetectorResult> newest_;  // the newest good detections
 };
 
-// Spends the budget the filter freed on the static world: `features` becomes the keypoints the filter dropped
-// (keep 0, for the log and the scoring), then those of a second extraction outside every pixel it drops (keep 1).
-void ExtractOutsideDropped(slam::System& system, const KeypointExclusion& exclusion, const core::RgbdFrame& frame,
+// Spends the budget the filter freed on the static world: `features` becomes the keypoints of the first
+// extraction on what is dynamic (those the filter dropped, keep 0, for the log and the scoring; those hoidplus kept
+// behind a person, keep 1), then those of a second extraction outside it (keep 1).
+void ExtractOutsideDynamic(slam::System& system, const KeypointExclusion& exclusion, const core::RgbdFrame& frame,
                            const hoid::JudgedBoxes& boxes, slam::ExtractedFeatures& features,
                            std::vector<std::uint8_t>& keep) {
-  const slam::ExtractedFeatures outside =
-      system.ExtractOutside(exclusion.DroppedPixels(frame, boxes, features.keypoints, keep));
+  const cv::Mat dynamic = exclusion.DynamicPixels(frame, boxes, features.keypoints, keep);
+  const slam::ExtractedFeatures outside = system.ExtractOutside(dynamic);
   slam::ExtractedFeatures merged;
+  std::vector<std::uint8_t> merged_keep;
   merged.keypoints.reserve(features.keypoints.size() + outside.keypoints.size());
   merged.descriptors.reserve(features.keypoints.size() + outside.keypoints.size());
   for (std::size_t i = 0; i < features.keypoints.size(); ++i) {
-    if (keep[i] != 0) continue;
+    if (keep[i] != 0 && !OnMask(dynamic, features.keypoints[i])) continue;  // the second extraction has its like
     merged.keypoints.push_back(features.keypoints[i]);
     merged.descriptors.push_back(features.descriptors.row(static_cast<int>(i)));
+    merged_keep.push_back(keep[i]);
   }
-  const std::size_t dropped = merged.keypoints.size();
   merged.keypoints.insert(merged.keypoints.end(), outside.keypoints.begin(), outside.keypoints.end());
   merged.descriptors.push_back(outside.descriptors);
-  keep.assign(merged.keypoints.size(), 1);
-  std::fill_n(keep.begin(), dropped, std::uint8_t{0});
+  merged_keep.resize(merged.keypoints.size(), 1);
   features = std::move(merged);
+  keep = std::move(merged_keep);
 }
 
 constexpr core::EnumNames<KeypointBudget, 2> kBudgetNames = {{
@@ -297,7 +299,7 @@ RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detec
     const auto dropped = static_cast<std::size_t>(std::count(keep.begin(), keep.end(), std::uint8_t{0}));
     if (dropped > 0 && options.keypoint_budget == KeypointBudget::kStatic) {
       clock.Restart();
-      ExtractOutsideDropped(system, exclusion, frame, boxes, features, keep);
+      ExtractOutsideDynamic(system, exclusion, frame, boxes, features, keep);
       times.extract += clock.ElapsedMilliseconds();
     }
     const std::size_t kept = features.keypoints.size() - dropped;
