@@ -54,6 +54,7 @@ struct FrameRecord {
   bool keyframe = false;
   std::size_t extracted = 0;
   std::size_t dropped = 0;  // by the filter
+  std::size_t kept = 0;     // handed to tracking (with the static keypoint budget, from the second extraction)
   std::size_t matched = 0;
   std::size_t inliers = 0;
   std::vector<DynamicDetection> dynamic;

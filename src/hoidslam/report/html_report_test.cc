@@ -57,11 +57,12 @@ fs::path WriteRunFolder(const fs::path& folder) {
                : "[]";
     std::string line = fmt::format(
         R"({{"frame": {}, "timestamp": {:.6f}, "state": "{}", "method": "{}", "keyframe": {}, )"
-        R"("features": {{"extracted": 1000, "dropped": {}, "matched": 300, "inliers": {}}}, "dynamic": {}, )"
+        R"("features": {{"extracted": 1000, "dropped": {}, {}"matched": 300, "inliers": {}}}, "dynamic": {}, )"
         R"("exclusion": {{"moving_kept": 10, "moving_dropped": 50, "static_kept": 735, "static_dropped": 15}}, )"
         R"("detections": {{"frame": {}, "age_frames": {}, "age_ms": {}}}, {})"
         R"("ms": {{"load": 12.0, "extract": 3.0, "detect": 0.0, "filter": 0.01, "track": 3.0}}}})",
         i, Stamp(i), lost ? "lost" : "ok", lost ? "none" : "motion_model", i == 0 ? "true" : "false", 200 + i,
+        i == 1 ? R"("kept": 990, )" : "",  // a second extraction's; the other frames are as older logs have them
         lost ? 0 : 250, dynamic, i / 2 * 2, i % 2, i % 2 * 33.3, i == 4 ? R"("dropped_before": 1, )" : "");
     std::erase(line, '\n');
     frames += line + "\n";
@@ -129,6 +130,8 @@ TEST(LoadRunReport, ReadsSummaryFrameLogTrajectoryAndSnapshots) {
   ASSERT_EQ(report.frame_log.size(), 6U);
   const FrameRecord& frame = report.frame_log[2];
   EXPECT_EQ(frame.dropped, 202U);
+  EXPECT_EQ(frame.kept, 798U);  // without "kept": what the filter left
+  EXPECT_EQ(report.frame_log[1].kept, 990U);
   ASSERT_EQ(frame.dynamic.size(), 2U);
   EXPECT_EQ(frame.dynamic[1].label, "cup");
   EXPECT_EQ(frame.dynamic[1].person, 0);
