@@ -95,6 +95,7 @@ void TrackerOptions::Check() const {
   };
   in_unit(min_inlier_share, "Tracking.minInlierShare");
   in_unit(min_inlier_ratio, "Tracking.minInlierRatio");
+  in_unit(supported_inlier_ratio, "Tracking.supportedInlierRatio");
   if (!(close_inlier_weight >= 1.0 && close_inlier_weight <= 3.0)) {
     throw core::InputError::ForParameter("Tracking.closeInlierWeight",
                                          fmt::format("must be in [1, 3], got {}", close_inlier_weight));
@@ -337,6 +338,7 @@ std::vector<KeyFrame*> Tracker::LocalKeyFrames(Frame& frame) const {
 }
 
 bool Tracker::Accepted(const Frame& frame, int inliers, int matched, int min_inliers) const {
+  if (inliers < options_.min_inlier_ratio * matched) return false;
   if (inliers >= min_inliers) return true;
   double support = 0.0;
   const KeypointSet& keypoints = *frame.keypoints;
@@ -347,7 +349,7 @@ bool Tracker::Accepted(const Frame& frame, int inliers, int matched, int min_inl
   }
   const int needed = std::clamp(static_cast<int>(std::ceil(options_.min_inlier_share * frame.size())),
                                 std::min(options_.min_inliers_floor, min_inliers), min_inliers);
-  return support >= needed && inliers >= options_.min_inlier_ratio * matched;
+  return support >= needed && inliers >= options_.supported_inlier_ratio * matched;
 }
 
 TrackingFailure Tracker::TrackLocalMap(Frame& frame, TrackResult& result) {
