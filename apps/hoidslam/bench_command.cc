@@ -20,9 +20,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The six synthetic scenarios of the benchmark (the `_static` controls are left to ask for by name).
-const std::vector<std::string> kDefaultScenarios = {"walking_xyz",  "walking_static", "walking_halfsphere",
-                                                    "walking_rpy",  "sitting_static", "carry"};
+// The seven synthetic scenarios of the benchmark (the `_static` controls are left to ask for by name).
+const std::vector<std::string> kDefaultScenarios = {
+    "walking_xyz", "walking_static", "walking_halfsphere", "walking_rpy", "sitting_static", "carry", "crowd"};
 
 struct BenchArgs {
   std::vector<std::string> folders;
@@ -124,8 +124,9 @@ void AddBenchCommand(CLI::App& app) {
   command->add_option("sequences", args->folders, "TUM / Bonn sequence folders to run besides (or instead of) the "
                                                   "synthetic scenarios");
   command->add_option("--scenarios", args->scenarios,
-                      "Shipped synthetic scenarios to render and run (default without folders: walking_xyz, "
-                      "walking_static, walking_halfsphere, walking_rpy, sitting_static, carry; none: no scenario)")
+                      fmt::format("Shipped synthetic scenarios to render and run (default without folders: {}; none: "
+                                  "no scenario)",
+                                  fmt::join(kDefaultScenarios, ", ")))
       ->delimiter(',');
   command->add_option("--modes", args->modes,
                       "Filter modes (default: none,person,classes,hoid2d,hoid3d,oracle; also hoidplus and its parts alone, e.g. "

@@ -22,7 +22,7 @@ namespace {
 
 using nlohmann::json;
 
-constexpr core::EnumNames<ActionType, 10> kActionNames = {{
+constexpr core::EnumNames<ActionType, 11> kActionNames = {{
     {ActionType::kWalkTo, "walk_to"},
     {ActionType::kStop, "stop"},
     {ActionType::kPickUp, "pick_up"},
@@ -32,6 +32,7 @@ constexpr core::EnumNames<ActionType, 10> kActionNames = {{
     {ActionType::kPush, "push"},
     {ActionType::kStandAt, "stand_at"},
     {ActionType::kGesture, "gesture"},
+    {ActionType::kFace, "face"},
     {ActionType::kLeave, "leave"},
 }};
 
@@ -218,6 +219,7 @@ Action ParseAction(const Node& node, const OfficeLayout& office) {
     case ActionType::kWalkTo:
     case ActionType::kCarryTo:
     case ActionType::kPutDown:
+    case ActionType::kFace:
     case ActionType::kLeave:
       node.AllowOnly({"action", "at", "to"});
       action.to = PointInRoom(node.Child("to"), office);

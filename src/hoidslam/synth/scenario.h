@@ -33,6 +33,7 @@ enum class ActionType {
   kStandAt,  // stand in front of `object` (`distance` out along its front, or at `position`), facing it, for
              // `duration`, without touching it
   kGesture,  // talk with the hands and turn the head for `duration` (also while seated: see `sit_on`)
+  kFace,     // turn on the spot to face the point `to` (say, the camera, to talk to whoever holds it)
   kLeave,    // walk to `to` and vanish (a door, or out of the room's view)
 };
 
@@ -42,7 +43,7 @@ struct Action {
   ActionType type = ActionType::kStop;
   std::string key;                          // where it is in the scenario, e.g. "people[1].actions[3]", for messages
   std::optional<double> at;                 // seconds from the first frame: do not start before this time
-  Eigen::Vector2d to = {0.0, 0.0};          // walk_to, carry_to, put_down, push, leave
+  Eigen::Vector2d to = {0.0, 0.0};          // walk_to, carry_to, put_down, push, face, leave
   std::string object;                       // pick_up, sit_on, push, stand_at
   double duration = 0.0;                    // stop, sit_on, stand_at, gesture; seconds
   double distance = 0.8;                    // stand_at: metres in front of the object where the person stands

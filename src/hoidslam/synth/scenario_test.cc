@@ -36,7 +36,7 @@ std::string Valid(const std::string& people = "[]", const std::string& extra = "
 TEST(Scenario, ShipsTheTumLikeScenariosWithTheirControls) {
   const std::vector<std::string> names = BuiltinScenarioNames();
   for (const std::string base :
-       {"walking_static", "walking_xyz", "walking_halfsphere", "walking_rpy", "sitting_static", "carry"}) {
+       {"walking_static", "walking_xyz", "walking_halfsphere", "walking_rpy", "sitting_static", "carry", "crowd"}) {
     EXPECT_THAT(names, ::testing::Contains(base));
     EXPECT_THAT(names, ::testing::Contains(base + "_static"));
   }
@@ -66,6 +66,7 @@ TEST(Scenario, ParsesPeopleAndActions) {
                               {"action": "put_down", "to": [2.6, 3.7]},
                               {"action": "sit_on", "object": "chair_1", "duration": 2, "gesture": true},
                               {"action": "stand_at", "object": "tv_1", "duration": 1, "distance": 1.2},
+                              {"action": "face", "to": [4, 1]},
                               {"action": "leave", "to": [7.9, 1]}]}])",
                           R"("seed": 42, "frames": 10, "detector_noise": {"miss_rate": 0.1},)"),
                     "x.json");
@@ -77,14 +78,16 @@ TEST(Scenario, ParsesPeopleAndActions) {
   EXPECT_DOUBLE_EQ(a.shape.height, 1.6);
   EXPECT_EQ(a.shape.shirt, 2);
   EXPECT_DOUBLE_EQ(a.enter_at, 3.0);
-  ASSERT_EQ(a.actions.size(), 6U);
+  ASSERT_EQ(a.actions.size(), 7U);
   EXPECT_EQ(a.actions[0].type, ActionType::kWalkTo);
   EXPECT_EQ(a.actions[0].at, 4.0);
   EXPECT_EQ(a.actions[1].object, "cup_1");
   EXPECT_EQ(a.actions[1].key, "people[0].actions[1]");
   EXPECT_TRUE(a.actions[3].gesture);
   EXPECT_DOUBLE_EQ(a.actions[4].distance, 1.2);
-  EXPECT_EQ(a.actions[5].type, ActionType::kLeave);
+  EXPECT_EQ(a.actions[5].type, ActionType::kFace);
+  EXPECT_TRUE(a.actions[5].to.isApprox(Eigen::Vector2d(4.0, 1.0)));
+  EXPECT_EQ(a.actions[6].type, ActionType::kLeave);
 }
 
 TEST(Scenario, AnUnknownObjectIsNamedWithItsKey) {

@@ -461,6 +461,16 @@ class World::Planner {
     Idle(p, action.duration);
   }
 
+  void Face(std::size_t p, const Action& action) {
+    const Vector2d d = action.to - cursors_[p].pose.position;
+    // So close, the direction is meaningless: most likely a mistyped point.
+    if (d.norm() < 0.05) {
+      Fail(action, fmt::format("{} stands at ({:.2f}, {:.2f}): no direction to face", world_.people_[p].spec.name,
+                               action.to.x(), action.to.y()));
+    }
+    TurnTo(p, Heading(d));
+  }
+
   void Do(std::size_t p, const Action& action) {
     Cursor& c = cursors_[p];
     if (c.gone) Fail(action, fmt::format("{} has left", world_.people_[p].spec.name));
@@ -494,6 +504,9 @@ class World::Planner {
       case ActionType::kGesture:
         RequireEmptyHands(p, action);
         Gesture(p, action.duration);
+        break;
+      case ActionType::kFace:
+        Face(p, action);
         break;
       case ActionType::kLeave:
         RequireEmptyHands(p, action);

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <numbers>
 #include <set>
 #include <string>
 
@@ -148,6 +149,18 @@ TEST(World, PeopleMoveExceptWhenTheyStandStill) {
   }
 }
 
+TEST(World, APersonTurnsOnTheSpotToFaceAPoint) {
+  // Facing +x, a person turns to the camera of the fixture (4.0, 1.2), a quarter turn to their right.
+  const World world(fixtures::SmallScenario(R"([{"name": "a", "start": [4.0, 2.4], "facing_deg": 0, "actions": [
+      {"action": "face", "to": [4.0, 1.2]}, {"action": "stop", "duration": 2}]}])"),
+                    Textures());
+  EXPECT_THAT(world.MovingAt(0.2), ::testing::Contains("a"));
+  const BodyPose turned = *world.PersonPose(0, 1.5);
+  EXPECT_THAT(world.MovingAt(1.5), ::testing::Not(::testing::Contains("a")));
+  EXPECT_NEAR(turned.yaw, -std::numbers::pi / 2.0, 1e-9);
+  EXPECT_TRUE(turned.position.isApprox(Eigen::Vector2d(4.0, 2.4)));
+}
+
 TEST(World, PeopleAppearWhenTheyEnterAndVanishWhenTheyLeave) {
   const World world(fixtures::SmallScenario(kTwoPeople), Textures());
   const int b_id = *world.InstanceId("b");
@@ -200,6 +213,8 @@ TEST(World, ImpossibleActionsNameTheirKey) {
               HasSubstr("people[1].actions[0]: 'cup_1' is held by a"));
   EXPECT_THAT(PlanError(R"([{"name": "a", "start": [2, 2.5], "actions": [{"action": "carry_to", "to": [3, 2]}]}])"),
               HasSubstr("people[0].actions[0]: a carries nothing"));
+  EXPECT_THAT(PlanError(R"([{"name": "a", "start": [2, 2.5], "actions": [{"action": "face", "to": [2, 2.5]}]}])"),
+              HasSubstr("people[0].actions[0]: a stands at (2.00, 2.50): no direction to face"));
   // Not straight through the desk: there is no way into the middle of it.
   EXPECT_THAT(PlanError(R"([{"name": "a", "start": [2, 2.5], "actions": [
                   {"action": "walk_to", "to": [4, 2.5]}, {"action": "walk_to", "to": [3.2, 3.9]}]}])"),
