@@ -26,9 +26,10 @@ constexpr int kHalfPatch = 15;      // radius of the orientation disk, half the 
 constexpr int kEdgeThreshold = 19;  // keypoints lie at least this far inside their level image (ORB-SLAM)
 constexpr int kFastBorder = 3;      // cv::FAST reports no corner within 3 px of its image's edge
 constexpr int kCellSize = 30;       // side of the cells the FAST thresholds are chosen in
-// ExtractOutside keeps its keypoints this many pixels of their own level away from what is excluded: a corner
-// closer than that is made by, or described with, the pixels of a person's outline, which move with the person.
-// (Without it, walking_xyz with hoid2d drifted to 74 mm ATE; with 8 level-0 pixels it kept 3.3 mm.)
+// ExtractOutside keeps its keypoints this many (level-0) pixels away from what is excluded: a corner closer than
+// that is made by the pixels of a person's outline, which move with the person. (Without it, walking_xyz with
+// hoid2d drifted to 74 mm ATE; with it, 3.3 mm.) Not more, nor in pixels of each level: between people who fill
+// the view the static world left is a few narrow strips.
 constexpr int kExcludedMargin = 8;
 constexpr int kDescriptorBytes = 32;
 constexpr int kTests = kDescriptorBytes * 8;
@@ -278,7 +279,7 @@ void OrbExtractor::DetectCorners(int index, const cv::Mat& excluded) {
 
   // Whether the corner at level pixel (x, y) may be kept: the pixel its level-0 position rounds to is not
   // excluded. The position is computed as Collect computes it, so the test agrees with one on the keypoint.
-  // And it keeps the margin: the level's mask, grown by kExcludedMargin of its pixels, is clear there too.
+  // And it keeps the margin: the level's mask, grown by kExcludedMargin, is clear there too.
   const float scale = pyramid_.scale[static_cast<std::size_t>(index)];
   const auto outside = [&](int x, int y) {
     if (excluded.empty()) return true;
@@ -287,12 +288,9 @@ void OrbExtractor::DetectCorners(int index, const cv::Mat& excluded) {
     return excluded.at<std::uint8_t>(std::min(y0, excluded.rows - 1), std::min(x0, excluded.cols - 1)) == 0 &&
            level.excluded.at<std::uint8_t>(y, x) == 0;
   };
-  if (!excluded.empty()) {
-    // Into the level's own buffer: the caller's mask is not ours to change.
-    if (index > 0) cv::resize(excluded, level.excluded, image.size(), 0.0, 0.0, cv::INTER_NEAREST);
-    const int side = 2 * kExcludedMargin + 1;
-    cv::dilate(index > 0 ? level.excluded : excluded, level.excluded,
-               cv::getStructuringElement(cv::MORPH_RECT, cv::Size(side, side)));
+  // Level 0's grown mask is ExtractOutside's, made before the levels start.
+  if (!excluded.empty() && index > 0) {
+    cv::resize(levels_[0].excluded, level.excluded, image.size(), 0.0, 0.0, cv::INTER_NEAREST);
   }
 
   // A cell keeps its corners scoring >= iniThFAST if it has any, else its corners scoring >= minThFAST: what
@@ -418,6 +416,9 @@ void OrbExtractor::ExtractOutside(const cv::Mat& excluded, std::vector<cv::KeyPo
                                             image.cols, image.rows, excluded.cols, excluded.rows,
                                             cv::typeToString(excluded.type())));
   }
+  // The margin, grown once at level 0 into the extractor's own buffer (the caller's mask is not ours to change).
+  const int side = 2 * kExcludedMargin + 1;
+  cv::dilate(excluded, levels_[0].excluded, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(side, side)));
   ForEachLevel([&](int l) {
     if (Usable(levels_[static_cast<std::size_t>(l)].image)) DetectCorners(l, excluded);
   });

@@ -49,7 +49,8 @@ class OrbExtractor {
 
   // Extracts again from the image of the last Extract call (which must not have changed since), with no keypoint
   // on the pixels `excluded` marks (CV_8UC1 of the image's size, non-zero = excluded; a keypoint is excluded when
-  // the pixel its level-0 position rounds to is). The budget is spread over what is left as Extract spreads it over
+  // the pixel its level-0 position rounds to is), nor within 8 pixels of them: a corner by a person's outline moves
+  // with the person. The budget is spread over what is left as Extract spreads it over
   // the image: per level by the quadtree, each cell's FAST threshold chosen among its corners outside the mask (so
   // a cell whose strong corners all lie on a person is searched again at minThFAST), and a level whose part
   // outside the mask has fewer corners than its share hands what it cannot use on to the levels that have more
@@ -70,7 +71,7 @@ class OrbExtractor {
     cv::Mat image;                          // level 0 is the input itself
     cv::Mat blurred;                        // smoothed image inside a reflected border, for the descriptors
     bool blurred_ready = false;             // blurred holds this frame's image
-    cv::Mat excluded;                       // ExtractOutside's mask at this level's size
+    cv::Mat excluded;                       // ExtractOutside's mask, grown by the margin, at this level's size
     std::vector<cv::KeyPoint> fast;         // cv::FAST's output
     std::vector<Corner> strong;             // the FAST corners scoring >= iniThFAST in the band, kept for ExtractOutside
     std::vector<Corner> corners;            // the FAST corners kept after the per-cell thresholds

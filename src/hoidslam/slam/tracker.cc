@@ -146,11 +146,12 @@ TrackResult Tracker::Track(Frame frame) {
         // The prediction may have led to a wrong pose that the local map does not confirm: start again from the
         // reference keyframe before giving the frame up.
         if (!ok) ok = attempt(TrackingMethod::kReferenceKeyFrame, TrackReferenceKeyFrame(frame));
+        // Right after a relocalisation there is no motion yet, and the keyframe it found may see the place from
+        // afar: the camera taken to stand still, the last frame's points are searched for where they were.
+        if (!ok && !velocity_) ok = attempt(TrackingMethod::kMotionModel, TrackWithMotionModel(frame));
       } else {
         // Lost for a moment (people filled the view): the camera is most likely where it was heading.
-        if (velocity_ && gap <= options_.max_motion_gap) {
-          ok = attempt(TrackingMethod::kMotionModel, TrackWithMotionModel(frame));
-        }
+        if (gap <= options_.max_motion_gap) ok = attempt(TrackingMethod::kMotionModel, TrackFromPrediction(frame));
         if (!ok) {
           const TrackingFailure found = Relocalize(frame);
           if (found == TrackingFailure::kNone) last_relocalization_frame_id_ = frame.id;
@@ -267,9 +268,10 @@ int Tracker::OptimizeFramePose(Frame& frame, bool drop_outliers) {
 TrackingFailure Tracker::TrackWithMotionModel(Frame& frame) {
   const Frame& last = *last_frame_;
   const double elapsed = frame.timestamp - last.timestamp;
-  frame.T_cw = ScaleMotion(*velocity_, velocity_seconds_, elapsed) * last.T_cw;
+  frame.T_cw = (velocity_ ? ScaleMotion(*velocity_, velocity_seconds_, elapsed) : core::Pose::Identity()) * last.T_cw;
   // After frames were lost the prediction is rougher: the window grows with them, as far as the motion is scaled.
-  const double frames = velocity_seconds_ > 0.0 ? std::clamp(elapsed / velocity_seconds_, 1.0, 4.0) : 1.0;
+  const double frames =
+      velocity_ && velocity_seconds_ > 0.0 ? std::clamp(elapsed / velocity_seconds_, 1.0, 4.0) : 1.0;
   const double radius = options_.motion_search_radius * frames;
   ClearMatches(frame);
   int matches = SearchByProjection(frame, last, radius);
@@ -280,6 +282,38 @@ TrackingFailure Tracker::TrackWithMotionModel(Frame& frame) {
   if (matches < kMinProjectionMatches) return TrackingFailure::kTooFewMatches;
   const int inliers = OptimizeFramePose(frame, true);
   spdlog::debug("frame {}: motion model: {} matches, {} inliers", frame.id, matches, inliers);
+  return inliers >= kMinFirstEstimateInliers ? TrackingFailure::kNone : TrackingFailure::kPoseRejected;
+}
+
+TrackingFailure Tracker::TrackFromPrediction(Frame& frame) {
+  const Frame& last = *last_frame_;
+  const double elapsed = frame.timestamp - last.timestamp;
+  frame.T_cw = (velocity_ ? ScaleMotion(*velocity_, velocity_seconds_, elapsed) : core::Pose::Identity()) * last.T_cw;
+  const double frames =
+      velocity_ && velocity_seconds_ > 0.0 ? std::clamp(elapsed / velocity_seconds_, 1.0, 4.0) : 4.0;
+  // The last tracked frame kept few points (the crowd had already come), so the map around it is searched: the
+  // points of the keyframes that see its points, and of their neighbours (its local map), where the prediction
+  // puts them. Its reference keyframe, made amid the crowd, may hold few.
+  KeyFrame* most_shared = nullptr;
+  const std::vector<KeyFrame*> keyframes = LocalKeyFrames(last, most_shared);
+  std::vector<ProjectedPoint> projected;
+  std::unordered_set<const MapPoint*> considered;
+  const Sensor& sensor = frame.keypoints->sensor();
+  for (const KeyFrame* keyframe : keyframes) {
+    for (MapPoint* p : keyframe->map_points()) {
+      ProjectedPoint candidate;
+      if (p != nullptr && !p->bad() && considered.insert(p).second &&
+          ProjectIntoFrame(*p, frame.T_cw, sensor, 0.5, candidate)) {
+        projected.push_back(candidate);
+      }
+    }
+  }
+  ClearMatches(frame);
+  const int matches = SearchByProjection(frame, projected, options_.motion_search_radius * frames);
+  if (matches < kMinProjectionMatches) return TrackingFailure::kTooFewMatches;
+  const int inliers = OptimizeFramePose(frame, true);
+  spdlog::debug("frame {}: prediction after {:.2f} s lost: {} matches, {} inliers", frame.id, elapsed, matches,
+                inliers);
   return inliers >= kMinFirstEstimateInliers ? TrackingFailure::kNone : TrackingFailure::kPoseRejected;
 }
 
@@ -295,7 +329,7 @@ TrackingFailure Tracker::TrackReferenceKeyFrame(Frame& frame) {
   return inliers >= kMinFirstEstimateInliers ? TrackingFailure::kNone : TrackingFailure::kPoseRejected;
 }
 
-std::vector<KeyFrame*> Tracker::LocalKeyFrames(Frame& frame) const {
+std::vector<KeyFrame*> Tracker::LocalKeyFrames(const Frame& frame, KeyFrame*& most_shared) const {
   // Keyframes that see the frame's points, by how many; keyed by id so the order never depends on addresses.
   std::map<KeyFrameId, std::pair<KeyFrame*, int>> seen;
   for (const MapPoint* p : frame.map_points) {
@@ -319,7 +353,7 @@ std::vector<KeyFrame*> Tracker::LocalKeyFrames(Frame& frame) const {
     include(entry.first);
     if (entry.second > best) {
       best = entry.second;
-      frame.reference_keyframe = entry.first;
+      most_shared = entry.first;
     }
   }
   // Their neighbours: one strong covisible keyframe, one child and the parent of each.
@@ -353,7 +387,7 @@ bool Tracker::Accepted(const Frame& frame, int inliers, int matched, int min_inl
 }
 
 TrackingFailure Tracker::TrackLocalMap(Frame& frame, TrackResult& result) {
-  const std::vector<KeyFrame*> local_keyframes = LocalKeyFrames(frame);
+  const std::vector<KeyFrame*> local_keyframes = LocalKeyFrames(frame, frame.reference_keyframe);
   std::unordered_set<const MapPoint*> in_frame;
   for (MapPoint* p : frame.map_points) {
     if (p == nullptr || p->bad()) continue;

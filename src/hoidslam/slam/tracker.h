@@ -111,8 +111,12 @@ class Tracker {
  private:
   bool Initialize(Frame& frame);
   // The first pose estimates: kNone when found, else why not. The motion model predicts from the last tracked
-  // frame, `elapsed` seconds on, and searches within a radius grown with the frames elapsed.
+  // frame by the last measured motion (none: standing still), scaled to the time elapsed, and searches within a
+  // radius grown with the frames elapsed.
   TrackingFailure TrackWithMotionModel(Frame& frame);
+  // After a short loss: the pose the motion model predicts from the last tracked frame, confirmed by the points of
+  // the map around the reference keyframe, searched for within a window grown with the frames lost.
+  TrackingFailure TrackFromPrediction(Frame& frame);
   TrackingFailure TrackReferenceKeyFrame(Frame& frame);
   TrackingFailure Relocalize(Frame& frame);
   // Refines frame.T_cw from its matches; clears outlier matches when `drop_outliers`; returns the inliers.
@@ -121,7 +125,9 @@ class Tracker {
   TrackingFailure TrackLocalMap(Frame& frame, TrackResult& result);
   // Whether a pose with these inliers stands (TrackerOptions: the count, or the support on a frame that has little).
   bool Accepted(const Frame& frame, int inliers, int matched, int min_inliers) const;
-  std::vector<KeyFrame*> LocalKeyFrames(Frame& frame) const;
+  // The keyframes that see the frame's matched points and their neighbours; `most_shared` becomes the one that
+  // sees most of them (left as it is when none does).
+  std::vector<KeyFrame*> LocalKeyFrames(const Frame& frame, KeyFrame*& most_shared) const;
   // The safety net: counts the frame's misfitting matches and collects the points that misfit too often.
   void FindMovingPoints(const Frame& frame, const TrackResult& result);
   bool NeedNewKeyFrame(const Frame& frame, int inliers) const;
