@@ -265,14 +265,21 @@ int Tracker::OptimizeFramePose(Frame& frame, bool drop_outliers) {
   return inliers;
 }
 
-TrackingFailure Tracker::TrackWithMotionModel(Frame& frame) {
+double Tracker::PredictPose(Frame& frame) const {
   const Frame& last = *last_frame_;
   const double elapsed = frame.timestamp - last.timestamp;
-  frame.T_cw = (velocity_ ? ScaleMotion(*velocity_, velocity_seconds_, elapsed) : core::Pose::Identity()) * last.T_cw;
+  if (!velocity_) {
+    frame.T_cw = last.T_cw;
+    return 0.0;
+  }
+  frame.T_cw = ScaleMotion(*velocity_, velocity_seconds_, elapsed) * last.T_cw;
+  return velocity_seconds_ > 0.0 ? std::clamp(elapsed / velocity_seconds_, 1.0, 4.0) : 1.0;
+}
+
+TrackingFailure Tracker::TrackWithMotionModel(Frame& frame) {
+  const Frame& last = *last_frame_;
   // After frames were lost the prediction is rougher: the window grows with them, as far as the motion is scaled.
-  const double frames =
-      velocity_ && velocity_seconds_ > 0.0 ? std::clamp(elapsed / velocity_seconds_, 1.0, 4.0) : 1.0;
-  const double radius = options_.motion_search_radius * frames;
+  const double radius = options_.motion_search_radius * std::max(1.0, PredictPose(frame));
   ClearMatches(frame);
   int matches = SearchByProjection(frame, last, radius);
   if (matches < kMinProjectionMatches) {
@@ -288,9 +295,9 @@ TrackingFailure Tracker::TrackWithMotionModel(Frame& frame) {
 TrackingFailure Tracker::TrackFromPrediction(Frame& frame) {
   const Frame& last = *last_frame_;
   const double elapsed = frame.timestamp - last.timestamp;
-  frame.T_cw = (velocity_ ? ScaleMotion(*velocity_, velocity_seconds_, elapsed) : core::Pose::Identity()) * last.T_cw;
-  const double frames =
-      velocity_ && velocity_seconds_ > 0.0 ? std::clamp(elapsed / velocity_seconds_, 1.0, 4.0) : 4.0;
+  // Without a measured motion the camera may have gone anywhere near: the widest window.
+  const double predicted = PredictPose(frame);
+  const double frames = predicted > 0.0 ? predicted : 4.0;
   // The last tracked frame kept few points (the crowd had already come), so the map around it is searched: the
   // points of the keyframes that see its points, and of their neighbours (its local map), where the prediction
   // puts them. Its reference keyframe, made amid the crowd, may hold few.

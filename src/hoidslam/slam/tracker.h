@@ -115,6 +115,10 @@ class Tracker {
   // frame by the last measured motion (none: standing still), scaled to the time elapsed, and searches within a
   // radius grown with the frames elapsed.
   TrackingFailure TrackWithMotionModel(Frame& frame);
+  // Sets frame.T_cw where the motion model puts the camera: the last tracked frame's pose moved by the last
+  // measured motion scaled to the time elapsed (no measured motion: standing still). Returns how many frames'
+  // worth of motion that is, 1 to 4 (0 without a measured motion), by which search windows grow.
+  double PredictPose(Frame& frame) const;
   // After a short loss: the pose the motion model predicts from the last tracked frame, confirmed by the points of
   // the map around the reference keyframe, searched for within a window grown with the frames lost.
   TrackingFailure TrackFromPrediction(Frame& frame);
