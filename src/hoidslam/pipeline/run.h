@@ -1,16 +1,15 @@
 #pragma once
 // One SLAM run over a sequence, frame by frame: load → ORB extraction → detector → exclusion (HOID filter or
 // oracle mask) → a second extraction outside what is dynamic (KeypointBudget) → tracking (local mapping beside
-// it), with every stage timed and every frame logged. What
-// `hoidslam run` executes; the CLI only parses options around it.
+// it), with every stage timed and every frame logged. What `hoidslam run` executes; the CLI only parses options
+// around it.
 //
 // Outputs, in the folder given (each file complete or absent):
 //   trajectory.txt  every tracked frame, TUM format, camera-to-world (lost frames left out)
 //   keyframes.txt   the keyframes, TUM format
 //   map.ply         the sparse map, coloured
 //   frames.jsonl    one JSON object per frame: state (and why a lost frame was lost), features extracted /
-//                   dropped / kept for tracking / matched / inliers, the
-//                   dynamic detections with their reasons (hoidplus: every box, with track, carry and
+//                   dropped / kept for tracking / matched / inliers, the dynamic detections with their reasons (hoidplus: every box, with track, carry and
 //                   foreground depth, and the map points its safety net erased), time of each stage, and on a sequence with
 //                   ground-truth moving masks the keypoints kept and dropped on moving and static pixels
 //                   (docs/slam.md has the schema)
