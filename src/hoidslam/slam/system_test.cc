@@ -1,5 +1,6 @@
 #include "hoidslam/slam/system.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
@@ -168,10 +169,13 @@ TEST(System, KeepFlagsSelectKeypoints) {
   EXPECT_EQ(result.inliers, kept);  // all have depth
 }
 
-// Keep flags for the first `n` keypoints only.
-std::vector<std::uint8_t> KeepFirst(const ExtractedFeatures& features, std::size_t n) {
+// Keep flags for `n` keypoints of the finest level, spread over it (the extractor gives them first, in the
+// quadtree's order over the image).
+std::vector<std::uint8_t> KeepSpread(const ExtractedFeatures& features, std::size_t n) {
+  const auto finest = static_cast<std::size_t>(std::count_if(features.keypoints.begin(), features.keypoints.end(),
+                                                             [](const cv::KeyPoint& kp) { return kp.octave == 0; }));
   std::vector<std::uint8_t> keep(features.keypoints.size(), 0);
-  std::fill_n(keep.begin(), std::min(n, keep.size()), std::uint8_t{1});
+  for (std::size_t k = 0; k < n && k < finest; ++k) keep[k * finest / n] = 1;
   return keep;
 }
 
@@ -186,7 +190,7 @@ TEST(System, AFrameWithFewKeypointsIsTrackedOnItsSupport) {
   // count, yet their depth supports the pose (24 × 1.5).
   const core::RgbdFrame frame = MakeFrame(texture, 4);
   const ExtractedFeatures features = system.Extract(frame.rgb);
-  const TrackResult result = system.Track(frame, features, KeepFirst(features, 24));
+  const TrackResult result = system.Track(frame, features, KeepSpread(features, 24));
   ASSERT_EQ(result.state, TrackingState::kOk);
   EXPECT_LT(result.inliers, 30);
   EXPECT_LT((result.T_cw->translation() - TrueTranslation(4)).norm(), 0.005);
@@ -203,7 +207,7 @@ TEST(System, AShortLossIsBridgedByTheMotionModelAndSaysWhy) {
   for (int k = 6; k < 11; ++k) {
     const core::RgbdFrame frame = MakeFrame(texture, k);
     const ExtractedFeatures features = system.Extract(frame.rgb);
-    const TrackResult result = system.Track(frame, features, KeepFirst(features, 8));
+    const TrackResult result = system.Track(frame, features, KeepSpread(features, 8));
     EXPECT_EQ(result.state, TrackingState::kLost) << "frame " << k;
     EXPECT_EQ(result.failure, TrackingFailure::kTooFewKeypoints) << "frame " << k;
     EXPECT_FALSE(result.T_cw);
