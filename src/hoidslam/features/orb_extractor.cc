@@ -372,15 +372,17 @@ void OrbExtractor::SelectAndDescribe(int index, int budget) {
 
   // Smoothed into the inside of a bordered buffer, once a frame. Isolated: level 0 may be a view into a larger
   // image, whose pixels beyond the view must not count.
-  if (!level.blurred_ready) level.blurred.create(image.rows + 2 * kBlurBorder, image.cols + 2 * kBlurBorder, CV_8UC1);
-  cv::Mat inner = level.blurred(cv::Rect(kBlurBorder, kBlurBorder, image.cols, image.rows));
+  const cv::Rect inside(kBlurBorder, kBlurBorder, image.cols, image.rows);
   if (!level.blurred_ready) {
+    level.blurred.create(image.rows + 2 * kBlurBorder, image.cols + 2 * kBlurBorder, CV_8UC1);
+    cv::Mat target = level.blurred(inside);
     const cv::Matx<float, 7, 1>& kernel = SmoothingKernel();
-    cv::sepFilter2D(image, inner, CV_8U, kernel, kernel, cv::Point(-1, -1), 0.0,
+    cv::sepFilter2D(image, target, CV_8U, kernel, kernel, cv::Point(-1, -1), 0.0,
                     cv::BORDER_REFLECT_101 | cv::BORDER_ISOLATED);
     ReflectBorder(level.blurred, kBlurBorder);
     level.blurred_ready = true;
   }
+  const cv::Mat inner = level.blurred(inside);
 
   level.descriptors.create(static_cast<int>(level.keypoints.size()), kDescriptorBytes, CV_8UC1);
   for (std::size_t i = 0; i < level.keypoints.size(); ++i) {

@@ -179,13 +179,18 @@ std::vector<std::uint8_t> KeepSpread(const ExtractedFeatures& features, std::siz
   return keep;
 }
 
+// Tracks frames [0, count) of the sliding wall with all their keypoints; each must be tracked.
+void TrackWholeFrames(System& system, const cv::Mat& texture, int count) {
+  for (int k = 0; k < count; ++k) {
+    const core::RgbdFrame frame = MakeFrame(texture, k);
+    ASSERT_EQ(system.Track(frame, system.Extract(frame.rgb), {}).state, TrackingState::kOk) << "frame " << k;
+  }
+}
+
 TEST(System, AFrameWithFewKeypointsIsTrackedOnItsSupport) {
   const cv::Mat texture = MakeTexture(3);
   System system(Options());
-  for (int k = 0; k < 4; ++k) {
-    const core::RgbdFrame frame = MakeFrame(texture, k);
-    ASSERT_EQ(system.Track(frame, system.Extract(frame.rgb), {}).state, TrackingState::kOk);
-  }
+  ASSERT_NO_FATAL_FAILURE(TrackWholeFrames(system, texture, 4));
   // People fill the view: 24 keypoints left, all with close depth. Fewer than the 30 inliers a frame needs by
   // count, yet their depth supports the pose (24 × 1.5).
   const core::RgbdFrame frame = MakeFrame(texture, 4);
@@ -199,10 +204,7 @@ TEST(System, AFrameWithFewKeypointsIsTrackedOnItsSupport) {
 TEST(System, AShortLossIsBridgedByTheMotionModelAndSaysWhy) {
   const cv::Mat texture = MakeTexture(3);
   System system(Options());
-  for (int k = 0; k < 6; ++k) {
-    const core::RgbdFrame frame = MakeFrame(texture, k);
-    ASSERT_EQ(system.Track(frame, system.Extract(frame.rgb), {}).state, TrackingState::kOk);
-  }
+  ASSERT_NO_FATAL_FAILURE(TrackWholeFrames(system, texture, 6));
   // Five frames with 8 keypoints left: too few to track, and said so.
   for (int k = 6; k < 11; ++k) {
     const core::RgbdFrame frame = MakeFrame(texture, k);

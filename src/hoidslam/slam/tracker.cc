@@ -66,6 +66,22 @@ void ClearMatches(Frame& frame) {
   std::fill(frame.outlier.begin(), frame.outlier.end(), 0);
 }
 
+// The points of `keyframes` that the frame has not matched yet and that project into it at frame.T_cw, within
+// their scale range and viewing angle: each once, in the keyframes' order.
+std::vector<ProjectedPoint> PointsInView(const std::vector<KeyFrame*>& keyframes, const Frame& frame) {
+  std::unordered_set<const MapPoint*> considered(frame.map_points.begin(), frame.map_points.end());
+  std::vector<ProjectedPoint> projected;
+  const Sensor& sensor = frame.keypoints->sensor();
+  for (const KeyFrame* keyframe : keyframes) {
+    for (MapPoint* p : keyframe->map_points()) {
+      if (p == nullptr || p->bad() || !considered.insert(p).second) continue;
+      ProjectedPoint candidate;
+      if (ProjectIntoFrame(*p, frame.T_cw, sensor, 0.5, candidate)) projected.push_back(candidate);
+    }
+  }
+  return projected;
+}
+
 }  // namespace
 
 std::string_view ToString(TrackingState state) { return core::EnumName(kStateNames, state); }
@@ -302,20 +318,8 @@ TrackingFailure Tracker::TrackFromPrediction(Frame& frame) {
   // points of the keyframes that see its points, and of their neighbours (its local map), where the prediction
   // puts them. Its reference keyframe, made amid the crowd, may hold few.
   KeyFrame* most_shared = nullptr;
-  const std::vector<KeyFrame*> keyframes = LocalKeyFrames(last, most_shared);
-  std::vector<ProjectedPoint> projected;
-  std::unordered_set<const MapPoint*> considered;
-  const Sensor& sensor = frame.keypoints->sensor();
-  for (const KeyFrame* keyframe : keyframes) {
-    for (MapPoint* p : keyframe->map_points()) {
-      ProjectedPoint candidate;
-      if (p != nullptr && !p->bad() && considered.insert(p).second &&
-          ProjectIntoFrame(*p, frame.T_cw, sensor, 0.5, candidate)) {
-        projected.push_back(candidate);
-      }
-    }
-  }
   ClearMatches(frame);
+  const std::vector<ProjectedPoint> projected = PointsInView(LocalKeyFrames(last, most_shared), frame);
   const int matches = SearchByProjection(frame, projected, options_.motion_search_radius * frames);
   if (matches < kMinProjectionMatches) return TrackingFailure::kTooFewMatches;
   const int inliers = OptimizeFramePose(frame, true);
@@ -395,25 +399,11 @@ bool Tracker::Accepted(const Frame& frame, int inliers, int matched, int min_inl
 
 TrackingFailure Tracker::TrackLocalMap(Frame& frame, TrackResult& result) {
   const std::vector<KeyFrame*> local_keyframes = LocalKeyFrames(frame, frame.reference_keyframe);
-  std::unordered_set<const MapPoint*> in_frame;
   for (MapPoint* p : frame.map_points) {
-    if (p == nullptr || p->bad()) continue;
-    p->IncreaseVisible();
-    in_frame.insert(p);
+    if (p != nullptr && !p->bad()) p->IncreaseVisible();
   }
-  std::vector<ProjectedPoint> projected;
-  std::unordered_set<const MapPoint*> considered;
-  const Sensor& sensor = frame.keypoints->sensor();
-  for (const KeyFrame* keyframe : local_keyframes) {
-    for (MapPoint* p : keyframe->map_points()) {
-      if (p == nullptr || p->bad() || in_frame.contains(p) || !considered.insert(p).second) continue;
-      ProjectedPoint candidate;
-      if (ProjectIntoFrame(*p, frame.T_cw, sensor, 0.5, candidate)) {
-        p->IncreaseVisible();
-        projected.push_back(candidate);
-      }
-    }
-  }
+  const std::vector<ProjectedPoint> projected = PointsInView(local_keyframes, frame);
+  for (const ProjectedPoint& candidate : projected) candidate.point->IncreaseVisible();
   const bool recently_relocalized = last_relocalization_frame_id_ && frame.id < *last_relocalization_frame_id_ + 2;
   const int found = SearchByProjection(frame, projected, recently_relocalized ? 5.0 : options_.local_search_radius);
   spdlog::debug("frame {}: local map: {} keyframes, {} points in view, {} found", frame.id, local_keyframes.size(),

@@ -119,8 +119,9 @@ class Tracker {
   // measured motion scaled to the time elapsed (no measured motion: standing still). Returns how many frames'
   // worth of motion that is, 1 to 4 (0 without a measured motion), by which search windows grow.
   double PredictPose(Frame& frame) const;
-  // After a short loss: the pose the motion model predicts from the last tracked frame, confirmed by the points of
-  // the map around the reference keyframe, searched for within a window grown with the frames lost.
+  // After a short loss: the pose the motion model predicts from the last tracked frame, checked against the local
+  // map of that frame (the keyframes that see its points, and their neighbours), searched for within a window
+  // grown with the frames lost.
   TrackingFailure TrackFromPrediction(Frame& frame);
   TrackingFailure TrackReferenceKeyFrame(Frame& frame);
   TrackingFailure Relocalize(Frame& frame);
