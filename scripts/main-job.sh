@@ -4,8 +4,9 @@
 #     detection's verdict is printed, and the frames are drawn with red (features dropped) and green (kept)
 #     boxes into out/main-job/annotated/;
 #  2. the demo (`hoidslam demo`): 300 frames of the synthetic scenario walking_rpy (people walking, picking up and
-#     carrying things while the camera turns, on the real TUM camera path), SLAM on it without a filter (none)
-#     and with the HOID filter (hoid2d, ground-truth boxes), the ATE table, and the HTML report
+#     carrying things while the camera turns, on the real TUM camera path), SLAM on it without a filter (none),
+#     with the paper's HOID filter (hoid2d) and with the default mode (hoidplus), ground-truth boxes, the ATE
+#     table, and the HTML report
 #     out/main-job/demo/report.html with each run's own report in out/main-job/demo/runs/<run>/report.html.
 set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"

@@ -331,7 +331,7 @@ TEST(CliMasks, WritesAMaskPerFrameNamedLikeTheColourImagesAndAList) {
   const RunResult masks = RunHoidslam(
       scratch, {"masks", sequence.string(), "--format", "stella", "--frames", "30", "--out", out.string()});
   ASSERT_EQ(masks.exit_status, 0) << masks.err;
-  EXPECT_THAT(masks.out, HasSubstr("walking_xyz: 30 masks (hoid2d, format stella) in "));
+  EXPECT_THAT(masks.out, HasSubstr("walking_xyz: 30 masks (hoidplus, format stella) in "));  // the default
   EXPECT_THAT(masks.out, HasSubstr("% of the pixels masked on average"));
 
   // masks.txt: two comment lines, then `timestamp file` for each frame, as rgb.txt lists the colour images.
@@ -362,19 +362,19 @@ TEST(CliMasks, WritesAMaskPerFrameNamedLikeTheColourImagesAndAList) {
   EXPECT_GT(frames_clear, 0U);
   EXPECT_EQ(std::distance(fs::directory_iterator(out), fs::directory_iterator()), 31);  // 30 masks + masks.txt
 
-  // hoidplus masks the people but keeps what lies behind them in their boxes: fewer pixels in all.
-  const fs::path plus = scratch / "masks_hoidplus";
-  const RunResult plus_masks = RunHoidslam(scratch, {"masks", sequence.string(), "--filter", "hoidplus", "--format",
-                                                     "stella", "--frames", "30", "--out", plus.string()});
-  ASSERT_EQ(plus_masks.exit_status, 0) << plus_masks.err;
-  EXPECT_THAT(plus_masks.out, HasSubstr("walking_xyz: 30 masks (hoidplus, format stella) in "));
+  // hoid2d masks the people's whole boxes, hoidplus keeps what lies behind them in their boxes: fewer pixels in all.
+  const fs::path boxes = scratch / "masks_hoid2d";
+  const RunResult box_masks = RunHoidslam(scratch, {"masks", sequence.string(), "--filter", "hoid2d", "--format",
+                                                    "stella", "--frames", "30", "--out", boxes.string()});
+  ASSERT_EQ(box_masks.exit_status, 0) << box_masks.err;
+  EXPECT_THAT(box_masks.out, HasSubstr("walking_xyz: 30 masks (hoid2d, format stella) in "));
   std::size_t masked_hoid2d = 0;
   std::size_t masked_hoidplus = 0;
   for (const std::string& line : lines) {
     const std::string file = line.substr(line.find(' ') + 1);
-    masked_hoid2d += static_cast<std::size_t>(cv::countNonZero(cv::imread((out / file).string(), cv::IMREAD_UNCHANGED) == 0));
-    masked_hoidplus +=
-        static_cast<std::size_t>(cv::countNonZero(cv::imread((plus / file).string(), cv::IMREAD_UNCHANGED) == 0));
+    masked_hoid2d +=
+        static_cast<std::size_t>(cv::countNonZero(cv::imread((boxes / file).string(), cv::IMREAD_UNCHANGED) == 0));
+    masked_hoidplus += static_cast<std::size_t>(cv::countNonZero(cv::imread((out / file).string(), cv::IMREAD_UNCHANGED) == 0));
   }
   EXPECT_GT(masked_hoidplus, 0U);
   EXPECT_LT(masked_hoidplus, masked_hoid2d);

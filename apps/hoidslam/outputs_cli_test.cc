@@ -220,7 +220,7 @@ TEST(CliOutputs, ARealTumRecordingGetsCompleteOutputsAndAReportThatOpensInABrows
   const fs::path masks = scratch / "masks";
   const RunResult masked = Succeed(scratch, {"masks", sequence.string(), "--model", model.string(), "--out",
                                              masks.string()});
-  EXPECT_THAT(masked.out, HasSubstr("rgbd_dataset_freiburg3_walking_xyz: 2 masks (hoid2d, format hoidslam)"));
+  EXPECT_THAT(masked.out, HasSubstr("rgbd_dataset_freiburg3_walking_xyz: 2 masks (hoidplus, format hoidslam)"));
   ExpectCompleteMasks(masks, 2);
 
   const fs::path bench = scratch / "bench";

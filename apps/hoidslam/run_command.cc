@@ -239,7 +239,7 @@ void AddRunCommand(CLI::App& app) {
   command->add_option("--filter", args->filter,
                       "What is dropped: none, person, classes, hoid2d, hoid3d, hoidplus (HOID with depth, memory and a "
                       "safety net; hoidplus:depth+memory etc. for some parts), or oracle (the ground-truth moving "
-                      "masks of a synthetic sequence); default: HOID.mode of the settings, else hoid2d");
+                      "masks of a synthetic sequence); default: HOID.mode of the settings, else hoidplus");
   command->add_option("--min-interaction-area", args->min_interaction_area,
                       "Overrides HOID.minInteractionArea: the share of an object's box a person's box must cover "
                       "for the object to count as handled (0..1]")

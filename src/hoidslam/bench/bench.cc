@@ -324,15 +324,19 @@ std::string RenderBenchReport(const BenchOutcome& outcome) {
 
   report::BenchReportSection trajectories{
       .heading = "Trajectories",
-      .text = "For each of none, hoid2d and oracle, the run whose ATE is the median of its runs: seen from above "
-              "over the ground truth, aligned as the ATE aligns them, and its error over time.",
+      .text = "For each of none, hoid2d, hoidplus and oracle that ran, the run whose ATE is the median of its runs: "
+              "seen from above over the ground truth, aligned as the ATE aligns them, and its error over time.",
       .tables = {},
       .svg_figures = {},
       .html = {}};
+  // The frames are drawn from the default mode's runs, else from the paper's.
+  const bool default_mode_ran = std::ranges::find(plan.variants, Variant::Plain("hoidplus")) != plan.variants.end();
+  const Variant annotated = Variant::Plain(default_mode_ran ? "hoidplus" : "hoid2d");
   report::BenchReportSection frames{
       .heading = "Annotated frames",
-      .text = "From the first hoid2d run of each sequence: boxes coloured by the filter's decision with the "
-              "interaction ratio, keypoints kept green and dropped red.",
+      .text = "From the first " + annotated.Name() +
+              " run of each sequence: boxes coloured by the filter's decision with the interaction ratio, keypoints "
+              "kept green and dropped red.",
       .tables = {},
       .svg_figures = {},
       .html = {}};
@@ -341,7 +345,7 @@ std::string RenderBenchReport(const BenchOutcome& outcome) {
     const fs::path groundtruth = plan.sequences[s].path / "groundtruth.txt";
     std::vector<report::RunReport> runs;
     std::vector<std::string> labels;
-    for (const std::string mode : {"none", "hoid2d", "oracle"}) {
+    for (const std::string mode : {"none", "hoid2d", "hoidplus", "oracle"}) {
       const std::optional<std::size_t> i = MedianRun(outcome, s, mode);
       if (i && fs::exists(groundtruth)) {
         runs.push_back(report::LoadRunReport(plan.RunFolder(plan.runs[*i]), groundtruth));
@@ -355,7 +359,7 @@ std::string RenderBenchReport(const BenchOutcome& outcome) {
     // Snapshots are kept from each mode's first run only (BenchOptions::snapshots).
     for (std::size_t i = 0; i < plan.runs.size(); ++i) {
       const RunSpec& spec = plan.runs[i];
-      if (spec.sequence != s || spec.run != 1 || !(plan.variants[spec.variant] == Variant::Plain("hoid2d")) ||
+      if (spec.sequence != s || spec.run != 1 || !(plan.variants[spec.variant] == annotated) ||
           outcome.results[i].status != RunStatus::kOk) {
         continue;
       }

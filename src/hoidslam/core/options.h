@@ -70,7 +70,7 @@ struct HoidPlusOptions {
 
 // The HOID interaction filter (settings section HOID.*).
 struct HoidOptions {
-  FilterMode mode = FilterMode::kHoid2d;                    // HOID.mode
+  FilterMode mode = FilterMode::kHoidPlus;                  // HOID.mode
   double min_interaction_area = 0.4;                       // HOID.minInteractionArea, in (0, 1]: area(O∩P)/area(O)
   double depth_threshold = 0.2;                            // HOID.depthThreshold, metres, > 0 (hoid3d only)
   int sample_box_size = 20;                                // HOID.sampleBoxSize, pixels, >= 1 (hoid3d only)

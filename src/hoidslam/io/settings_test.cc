@@ -65,7 +65,7 @@ TEST_F(SettingsFile, EveryShippedConfigLoadsAndPassesCheck) {
     EXPECT_EQ(settings.camera.height, 480);
     EXPECT_DOUBLE_EQ(settings.fps, 30.0);
     EXPECT_EQ(settings.orb.n_features, 1000);
-    EXPECT_EQ(settings.hoid.mode, core::FilterMode::kHoid2d);
+    EXPECT_EQ(settings.hoid.mode, core::FilterMode::kHoidPlus);
     EXPECT_EQ(settings.hoid.dynamic_classes, core::HoidOptions{}.dynamic_classes);
   }
   const Settings fr1 = LoadSettings(fs::path(HOIDSLAM_CONFIG_DIR) / "TUM1.yaml");
