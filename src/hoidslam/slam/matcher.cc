@@ -162,7 +162,7 @@ bool ProjectIntoFrame(const MapPoint& point, const core::Pose& T_cw, const Senso
   return true;
 }
 
-int SearchByProjection(Frame& frame, std::span<const ProjectedPoint> points, double radius) {
+int SearchByProjection(Frame& frame, std::span<const ProjectedPoint> points, double radius, int max_distance) {
   const KeypointSet& keypoints = *frame.keypoints;
   const auto& scale = keypoints.sensor().pyramid.scale;
   int matches = 0;
@@ -189,7 +189,7 @@ int SearchByProjection(Frame& frame, std::span<const ProjectedPoint> points, dou
         second_level = keypoints.level(j);
       }
     }
-    if (best < 0 || best_distance > kDescriptorDistanceHigh) continue;
+    if (best < 0 || best_distance > max_distance) continue;
     // Ambiguous between two keypoints of the same level: leave it.
     if (best_level == second_level && best_distance > 0.8 * second_distance) continue;
     frame.map_points[static_cast<std::size_t>(best)] = projected.point;

@@ -37,8 +37,9 @@ bool ProjectIntoFrame(const MapPoint& point, const core::Pose& T_cw, const Senso
                       ProjectedPoint& projected);
 
 // Matches predicted-visible points to `frame` keypoints still unmatched; window `radius` pixels at level 0
-// (widened for oblique views). Returns the number of matches.
-int SearchByProjection(Frame& frame, std::span<const ProjectedPoint> points, double radius);
+// (widened for oblique views), descriptors at most `max_distance` apart. Returns the number of matches.
+int SearchByProjection(Frame& frame, std::span<const ProjectedPoint> points, double radius,
+                       int max_distance = kDescriptorDistanceHigh);
 
 // Matches the keyframe's map points to the frame's keypoints by descriptor alone (nearest neighbour, ratio
 // test, orientation consistency). matches[i] is the map point of frame keypoint i, or nullptr. Returns the count.

@@ -259,6 +259,30 @@ TEST_F(MatcherTest, SearchByProjectionOfProjectedPoints) {
   EXPECT_EQ(SearchByProjection(current, projected, 3.0), 0);
 }
 
+TEST_F(MatcherTest, SearchByProjectionKeepsToTheDescriptorLimitItIsGiven) {
+  ASSERT_NO_FATAL_FAILURE(Build());
+  std::vector<ProjectedPoint> projected;
+  for (const MapPoint* p : points_) {
+    ProjectedPoint pp;
+    if (ProjectIntoFrame(*p, T_cw_b_, *sensor_, 0.5, pp)) projected.push_back(pp);
+  }
+  // View B's descriptors are 5 bit flips off view A's (fewer bits where a flip undid another).
+  Frame strict = CurrentFrame();
+  const int close = SearchByProjection(strict, projected, 3.0, 4);
+  EXPECT_LT(close, num_visible_ / 2);
+  int within = 0;
+  for (int j = 0; j < set_b_->size(); ++j) {
+    const MapPoint* p = strict.map_points[static_cast<std::size_t>(j)];
+    if (p == nullptr) continue;
+    EXPECT_LE(DescriptorDistance(*p, *set_b_, j), 4) << "keypoint " << j;
+    ++within;
+  }
+  EXPECT_EQ(within, close);
+  Frame enough = CurrentFrame();
+  EXPECT_EQ(SearchByProjection(enough, projected, 3.0, 5), num_visible_);
+  ExpectTrueMatches(enough.map_points);
+}
+
 TEST_F(MatcherTest, SearchByDescriptorMatchesByDescriptorAlone) {
   ASSERT_NO_FATAL_FAILURE(Build());
   std::vector<MapPoint*> matches;

@@ -187,18 +187,33 @@ void TrackWholeFrames(System& system, const cv::Mat& texture, int count) {
   }
 }
 
-TEST(System, AFrameWithFewKeypointsIsTrackedOnItsSupport) {
+// Tracks four whole frames of the sliding wall, then frame 4 with only `kept` of its keypoints (people fill the
+// view); the result must be tracked where the camera truly is.
+TrackResult TrackBareFrame(std::size_t kept) {
   const cv::Mat texture = MakeTexture(3);
   System system(Options());
-  ASSERT_NO_FATAL_FAILURE(TrackWholeFrames(system, texture, 4));
-  // People fill the view: 24 keypoints left, all with close depth. Fewer than the 30 inliers a frame needs by
-  // count, yet their depth supports the pose (24 × 1.5).
+  TrackWholeFrames(system, texture, 4);
   const core::RgbdFrame frame = MakeFrame(texture, 4);
   const ExtractedFeatures features = system.Extract(frame.rgb);
-  const TrackResult result = system.Track(frame, features, KeepSpread(features, 24));
-  ASSERT_EQ(result.state, TrackingState::kOk);
+  const TrackResult result = system.Track(frame, features, KeepSpread(features, kept));
+  EXPECT_EQ(result.state, TrackingState::kOk);
+  if (result.T_cw) EXPECT_LT((result.T_cw->translation() - TrueTranslation(4)).norm(), 0.005);
+  return result;
+}
+
+TEST(System, AFrameWithFewKeypointsIsTrackedOnItsSupport) {
+  // 24 keypoints left, all with close depth: fewer than the 30 inliers a frame needs by count, yet their depth
+  // supports the pose (24 × 1.5).
+  const TrackResult result = TrackBareFrame(24);
   EXPECT_LT(result.inliers, 30);
-  EXPECT_LT((result.T_cw->translation() - TrueTranslation(4)).norm(), 0.005);
+}
+
+TEST(System, AFrameTooBareForTheMotionModelIsFoundInTheMapAroundTheLastFrame) {
+  // 18 keypoints left: fewer than the 20 matches the search from the last frame needs. The local map around it,
+  // searched strictly where the motion model puts the camera, still holds them.
+  const TrackResult result = TrackBareFrame(18);
+  EXPECT_EQ(result.method, TrackingMethod::kMotionModel);
+  EXPECT_LE(result.inliers, 18);
 }
 
 TEST(System, AShortLossIsBridgedByTheMotionModelAndSaysWhy) {

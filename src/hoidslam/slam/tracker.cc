@@ -165,6 +165,8 @@ TrackResult Tracker::Track(Frame frame) {
         // Right after a relocalisation there is no motion yet, and the keyframe it found may see the place from
         // afar: the camera taken to stand still, the last frame's points are searched for where they were.
         if (!ok && !velocity_) ok = attempt(TrackingMethod::kMotionModel, TrackWithMotionModel(frame));
+        // Too few matches for either (people fill the view): the map around the last frame, searched strictly.
+        if (!ok) ok = attempt(TrackingMethod::kMotionModel, TrackFromPrediction(frame));
       } else {
         // Lost for a moment (people filled the view): the camera is most likely where it was heading.
         if (gap <= options_.max_motion_gap) ok = attempt(TrackingMethod::kMotionModel, TrackFromPrediction(frame));
@@ -316,15 +318,18 @@ TrackingFailure Tracker::TrackFromPrediction(Frame& frame) {
   const double frames = predicted > 0.0 ? predicted : 4.0;
   // The last tracked frame kept few points (the crowd had already come), so the map around it is searched: the
   // points of the keyframes that see its points, and of their neighbours (its local map), where the prediction
-  // puts them. Its reference keyframe, made amid the crowd, may hold few.
+  // puts them. Its reference keyframe, made amid the crowd, may hold few. Most of them are hidden by the people:
+  // only close descriptors are taken, and RANSAC keeps those that agree on a pose.
   KeyFrame* most_shared = nullptr;
   ClearMatches(frame);
   const std::vector<ProjectedPoint> projected = PointsInView(LocalKeyFrames(last, most_shared), frame);
-  const int matches = SearchByProjection(frame, projected, options_.motion_search_radius * frames);
-  if (matches < kMinProjectionMatches) return TrackingFailure::kTooFewMatches;
-  const int inliers = OptimizeFramePose(frame, true);
-  spdlog::debug("frame {}: prediction after {:.2f} s lost: {} matches, {} inliers", frame.id, elapsed, matches,
-                inliers);
+  const int matches =
+      SearchByProjection(frame, projected, options_.motion_search_radius * frames, kDescriptorDistanceLow);
+  if (matches < kMinFirstEstimateInliers) return TrackingFailure::kTooFewMatches;
+  const int consistent = EstimatePoseRansac(frame);
+  const int inliers = consistent < kMinFirstEstimateInliers ? 0 : OptimizeFramePose(frame, true);
+  spdlog::debug("frame {}: prediction after {:.2f} s: {} matches, {} consistent, {} inliers", frame.id, elapsed,
+                matches, consistent, inliers);
   return inliers >= kMinFirstEstimateInliers ? TrackingFailure::kNone : TrackingFailure::kPoseRejected;
 }
 
@@ -511,6 +516,45 @@ void Tracker::CreateKeyFrame(Frame& frame) {
   last_keyframe_frame_id_ = frame.id;
 }
 
+int Tracker::EstimatePoseRansac(Frame& frame) {
+  const KeypointSet& keypoints = *frame.keypoints;
+  std::vector<cv::Point3d> object;
+  std::vector<cv::Point2d> image;
+  std::vector<int> index;
+  for (int i = 0; i < frame.size(); ++i) {
+    const MapPoint* p = frame.map_points[static_cast<std::size_t>(i)];
+    if (p == nullptr) continue;
+    object.emplace_back(p->position().x(), p->position().y(), p->position().z());
+    image.emplace_back(keypoints.undistorted(i).x(), keypoints.undistorted(i).y());
+    index.push_back(i);
+  }
+  if (object.size() < 4) return 0;
+  const core::CameraIntrinsics& intrinsics = keypoints.sensor().intrinsics;
+  const cv::Matx33d K(intrinsics.fx, 0, intrinsics.cx, 0, intrinsics.fy, intrinsics.cy, 0, 0, 1);
+  // OpenCV's RANSAC draws its samples from its own generator, seeded the same on every call: deterministic.
+  cv::Mat rvec, tvec;
+  std::vector<int> inliers;
+  if (!cv::solvePnPRansac(object, image, K, cv::noArray(), rvec, tvec, false, 300, 4.0F, 0.99, inliers,
+                          cv::SOLVEPNP_EPNP)) {
+    return 0;
+  }
+  cv::Mat R;
+  cv::Rodrigues(rvec, R);
+  Eigen::Matrix3d rotation;
+  Eigen::Vector3d translation;
+  cv::cv2eigen(R, rotation);
+  cv::cv2eigen(tvec, translation);
+  frame.T_cw.linear() = rotation;
+  frame.T_cw.translation() = translation;
+  std::vector<MapPoint*> kept(frame.map_points.size(), nullptr);
+  for (const int k : inliers) {
+    const auto i = static_cast<std::size_t>(index[static_cast<std::size_t>(k)]);
+    kept[i] = frame.map_points[i];
+  }
+  frame.map_points = std::move(kept);
+  return static_cast<int>(inliers.size());
+}
+
 TrackingFailure Tracker::Relocalize(Frame& frame) {
   const KeypointSet& keypoints = *frame.keypoints;
   if (keypoints.size() < kMinDescriptorMatches) return TrackingFailure::kTooFewMatches;
@@ -569,46 +613,14 @@ TrackingFailure Tracker::Relocalize(Frame& frame) {
   }
   std::stable_sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
 
-  const core::CameraIntrinsics& intrinsics = keypoints.sensor().intrinsics;
-  const cv::Matx33d K(intrinsics.fx, 0, intrinsics.cx, 0, intrinsics.fy, intrinsics.cy, 0, 0, 1);
   for (const auto& [matches, c] : ranked) {
     KeyFrame* candidate = candidates[c];
     ClearMatches(frame);
     frame.map_points = candidate_matches[c];
     spdlog::debug("frame {}: relocalisation candidate keyframe {}: {} matches", frame.id, candidate->id(), matches);
 
-    std::vector<cv::Point3d> object;
-    std::vector<cv::Point2d> image;
-    std::vector<int> index;
-    for (int i = 0; i < frame.size(); ++i) {
-      const MapPoint* p = frame.map_points[static_cast<std::size_t>(i)];
-      if (p == nullptr) continue;
-      object.emplace_back(p->position().x(), p->position().y(), p->position().z());
-      image.emplace_back(keypoints.undistorted(i).x(), keypoints.undistorted(i).y());
-      index.push_back(i);
-    }
-    cv::Mat rvec, tvec;
-    std::vector<int> inliers;
-    if (!cv::solvePnPRansac(object, image, K, cv::noArray(), rvec, tvec, false, 300, 4.0F, 0.99, inliers,
-                            cv::SOLVEPNP_EPNP) ||
-        static_cast<int>(inliers.size()) < kMinFirstEstimateInliers) {
-      continue;
-    }
-    cv::Mat R;
-    cv::Rodrigues(rvec, R);
-    Eigen::Matrix3d rotation;
-    Eigen::Vector3d translation;
-    cv::cv2eigen(R, rotation);
-    cv::cv2eigen(tvec, translation);
-    frame.T_cw.linear() = rotation;
-    frame.T_cw.translation() = translation;
-    // Only the RANSAC inliers go on to the pose optimisation.
-    std::vector<MapPoint*> kept(frame.map_points.size(), nullptr);
-    for (const int k : inliers) {
-      const auto i = static_cast<std::size_t>(index[static_cast<std::size_t>(k)]);
-      kept[i] = frame.map_points[i];
-    }
-    frame.map_points = std::move(kept);
+    const int consistent = EstimatePoseRansac(frame);
+    if (consistent < kMinFirstEstimateInliers) continue;
     int good = OptimizeFramePose(frame, true);
     if (good < kMinFirstEstimateInliers) continue;
     if (good < options_.min_inliers_after_relocalization) {
@@ -626,7 +638,7 @@ TrackingFailure Tracker::Relocalize(Frame& frame) {
       good = OptimizeFramePose(frame, true);
     }
     spdlog::debug("frame {}: relocalisation candidate keyframe {}: {} PnP inliers, {} after optimisation", frame.id,
-                  candidate->id(), inliers.size(), good);
+                  candidate->id(), consistent, good);
     if (good >= options_.min_inliers_after_relocalization) {
       frame.reference_keyframe = candidate;
       return TrackingFailure::kNone;
