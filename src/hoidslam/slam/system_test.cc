@@ -26,10 +26,14 @@ cv::Mat MakeTexture(std::uint32_t seed) {
   std::uniform_int_distribution<int> x(0, 799), y(0, 599), size(4, 40), grey(0, 255);
   cv::Mat texture(600, 800, CV_8UC3, cv::Scalar::all(128));
   for (int k = 0; k < 1500; ++k) {
+    // One draw per statement: the order in which a compiler evaluates arguments must not change the texture.
+    // (This is the order GCC evaluates them in, which the tests below were written against.)
     const cv::Scalar colour = cv::Scalar::all(grey(rng));
-    const cv::Point p(x(rng), y(rng));
+    const int p_y = y(rng);
+    const cv::Point p(x(rng), p_y);
     if (k % 2 == 0) {
-      cv::rectangle(texture, cv::Rect(p, cv::Size(size(rng), size(rng))), colour, cv::FILLED);
+      const int height = size(rng);
+      cv::rectangle(texture, cv::Rect(p, cv::Size(size(rng), height)), colour, cv::FILLED);
     } else {
       cv::circle(texture, p, size(rng) / 2, colour, cv::FILLED, cv::LINE_AA);
     }
