@@ -150,6 +150,15 @@ class MatcherTest : public ::testing::Test {
     f.T_cw = T_cw_b_;
     return f;
   }
+  // The map points as predicted in view B.
+  std::vector<ProjectedPoint> ProjectedIntoB() const {
+    std::vector<ProjectedPoint> projected;
+    for (const MapPoint* p : points_) {
+      ProjectedPoint pp;
+      if (ProjectIntoFrame(*p, T_cw_b_, *sensor_, 0.5, pp)) projected.push_back(pp);
+    }
+    return projected;
+  }
   // Every point visible in B matched to its own keypoint, nothing else matched.
   void ExpectTrueMatches(const std::vector<MapPoint*>& matches, const std::set<int>& unmatched = {}) {
     std::vector<MapPoint*> expected(static_cast<std::size_t>(set_b_->size()), nullptr);
@@ -242,11 +251,7 @@ TEST_F(MatcherTest, SearchByProjectionDropsMatchesWithInconsistentRotation) {
 TEST_F(MatcherTest, SearchByProjectionOfProjectedPoints) {
   ASSERT_NO_FATAL_FAILURE(Build({}, true));
   ASSERT_GE(duplicated_, 0);
-  std::vector<ProjectedPoint> projected;
-  for (const MapPoint* p : points_) {
-    ProjectedPoint pp;
-    if (ProjectIntoFrame(*p, T_cw_b_, *sensor_, 0.5, pp)) projected.push_back(pp);
-  }
+  const std::vector<ProjectedPoint> projected = ProjectedIntoB();
   ASSERT_EQ(static_cast<int>(projected.size()), num_visible_);  // the outside point is not among them
   Frame current = CurrentFrame();
   // Two identical keypoints of one level for one point: ambiguous, left unmatched.
@@ -261,11 +266,7 @@ TEST_F(MatcherTest, SearchByProjectionOfProjectedPoints) {
 
 TEST_F(MatcherTest, SearchByProjectionKeepsToTheDescriptorLimitItIsGiven) {
   ASSERT_NO_FATAL_FAILURE(Build());
-  std::vector<ProjectedPoint> projected;
-  for (const MapPoint* p : points_) {
-    ProjectedPoint pp;
-    if (ProjectIntoFrame(*p, T_cw_b_, *sensor_, 0.5, pp)) projected.push_back(pp);
-  }
+  const std::vector<ProjectedPoint> projected = ProjectedIntoB();
   // View B's descriptors are 5 bit flips off view A's (fewer bits where a flip undid another).
   Frame strict = CurrentFrame();
   const int close = SearchByProjection(strict, projected, 3.0, 4);
