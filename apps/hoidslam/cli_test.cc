@@ -368,13 +368,15 @@ TEST(CliMasks, WritesAMaskPerFrameNamedLikeTheColourImagesAndAList) {
                                                     "stella", "--frames", "30", "--out", boxes.string()});
   ASSERT_EQ(box_masks.exit_status, 0) << box_masks.err;
   EXPECT_THAT(box_masks.out, HasSubstr("walking_xyz: 30 masks (hoid2d, format stella) in "));
+  const auto masked_pixels = [](const fs::path& mask) {
+    return static_cast<std::size_t>(cv::countNonZero(cv::imread(mask.string(), cv::IMREAD_UNCHANGED) == 0));
+  };
   std::size_t masked_hoid2d = 0;
   std::size_t masked_hoidplus = 0;
   for (const std::string& line : lines) {
     const std::string file = line.substr(line.find(' ') + 1);
-    masked_hoid2d +=
-        static_cast<std::size_t>(cv::countNonZero(cv::imread((boxes / file).string(), cv::IMREAD_UNCHANGED) == 0));
-    masked_hoidplus += static_cast<std::size_t>(cv::countNonZero(cv::imread((out / file).string(), cv::IMREAD_UNCHANGED) == 0));
+    masked_hoid2d += masked_pixels(boxes / file);
+    masked_hoidplus += masked_pixels(out / file);
   }
   EXPECT_GT(masked_hoidplus, 0U);
   EXPECT_LT(masked_hoidplus, masked_hoid2d);

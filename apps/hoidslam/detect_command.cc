@@ -186,8 +186,9 @@ void AddDetectCommand(CLI::App& app) {
   command->add_option("--out", args->out, "Detections file to write (default: <dataset>/detections.jsonl)");
   command->add_option("--settings", args->settings,
                       "Settings file (e.g. config/TUM3.yaml): its HOID.* section and DepthMapFactor are used");
-  command->add_option("--mode", args->mode, "HOID filter mode for --explain/--annotate: none, person, classes, "
-                                            "hoid2d, hoid3d or hoidplus (default: HOID.mode of the settings, else hoidplus)");
+  command->add_option("--mode", args->mode,
+                      "HOID filter mode for --explain/--annotate: none, person, classes, hoid2d, hoid3d or hoidplus "
+                      "(default: HOID.mode of the settings, else hoidplus)");
   command->add_flag("--explain", args->explain, "Print the HOID filter's verdict on every detection of every frame");
   command->add_option("--annotate", args->annotate,
                       "Write every frame with its boxes to this folder: red = features dropped, green = kept");

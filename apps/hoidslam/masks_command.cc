@@ -78,8 +78,9 @@ void AddMasksCommand(CLI::App& app) {
                       "Settings file: its HOID section and DepthMapFactor are used (e.g. config/TUM3.yaml)");
   AddDetectorOptions(*command, args->detector);
   command->add_option("--filter", args->filter,
-                      "What is masked: person, classes, hoid2d, hoid3d, hoidplus, or oracle (the ground-truth moving masks of a "
-                      "synthetic sequence); none masks nothing; default: HOID.mode of the settings, else hoidplus");
+                      "What is masked: person, classes, hoid2d, hoid3d, hoidplus, or oracle (the ground-truth moving "
+                      "masks of a synthetic sequence); none masks nothing; default: HOID.mode of the settings, else "
+                      "hoidplus");
   command->add_option("--format", args->format,
                       "Pixel values for the tool that reads the masks: hoidslam (255 dynamic, 0 static), stella "
                       "(0 dynamic, 255 static) or dynaslam (1 dynamic, 0 static)")

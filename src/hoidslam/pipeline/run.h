@@ -9,10 +9,10 @@
 //   keyframes.txt   the keyframes, TUM format
 //   map.ply         the sparse map, coloured
 //   frames.jsonl    one JSON object per frame: state (and why a lost frame was lost), features extracted /
-//                   dropped / kept for tracking / matched / inliers, the dynamic detections with their reasons (hoidplus: every box, with track, carry and
-//                   foreground depth, and the map points its safety net erased), time of each stage, and on a sequence with
-//                   ground-truth moving masks the keypoints kept and dropped on moving and static pixels
-//                   (docs/slam.md has the schema)
+//                   dropped / kept for tracking / matched / inliers, the dynamic detections with their reasons
+//                   (hoidplus: every box, with track, carry and foreground depth, and the map points its safety
+//                   net erased), time of each stage, and on a sequence with ground-truth moving masks the
+//                   keypoints kept and dropped on moving and static pixels (docs/slam.md has the schema)
 //   snapshots/      a few frames drawn as the filter saw them: boxes coloured by the HOID decision, keypoints
 //                   kept (green) and dropped (red); named by frame index, 000123.jpg
 
