@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -14,6 +15,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "cli_test_support.h"
+#include "hoidslam/bow/vocabulary.h"
 #include "hoidslam/core/sanitizers.h"
 #include "support/shared_data.h"
 #include "support/temp_dir.h"
@@ -33,7 +35,7 @@ using ::testing::StartsWith;
 TEST(Cli, NoCommandIsAnErrorAndHelpIsNot) {
   const testing::TempDir scratch;
   EXPECT_NE(RunHoidslam(scratch, {}).exit_status, 0);
-  for (const char* command : {"bench", "demo", "detect", "eval", "masks", "report", "run", "synth"}) {
+  for (const char* command : {"bench", "demo", "detect", "eval", "masks", "report", "run", "synth", "vocabulary"}) {
     const RunResult help = RunHoidslam(scratch, {command, "--help"});
     EXPECT_EQ(help.exit_status, 0) << command;
     EXPECT_THAT(help.out, HasSubstr("Usage")) << command;
@@ -470,6 +472,58 @@ TEST(CliReport, TheReportOfARunShowsItsChartsInABrowser) {
                                               "--out", (scratch / "other.html").string()});
   ExpectOneErrorLine(bad, (scratch / "gt.txt").string());
   EXPECT_FALSE(fs::exists(scratch / "other.html"));
+}
+
+// ---- hoidslam vocabulary ---------------------------------------------------------------------------------------
+
+TEST(CliVocabulary, TrainsOnTheImagesOfFoldersAndWritesAVocabularyThatLoads) {
+  HOIDSLAM_SHARED_PATH_OR_SKIP(photos, "data/photos");
+  const testing::TempDir scratch;
+  fs::create_directories(scratch / "a" / "not-read");
+  fs::create_directories(scratch / "b");
+  fs::copy(photos / "bus.jpg", scratch / "a" / "bus.jpg");
+  fs::copy(photos / "zidane.jpg", scratch / "a" / "not-read" / "zidane.jpg");  // subfolders are not read
+  fs::copy(photos / "horses.jpg", scratch / "b" / "horses.JPG");
+  WriteText(scratch / "b" / "notes.txt", "not an image");
+  const fs::path out = scratch / "small.hbow";
+  const RunResult result =
+      RunHoidslam(scratch, {"vocabulary", "--images", (scratch / "a").string(), (scratch / "b").string(), "--out",
+                            out.string(), "--features", "500", "--branching", "4", "--levels", "3"});
+  ASSERT_EQ(result.exit_status, 0) << result.err;
+  const bow::Vocabulary vocabulary = bow::Vocabulary::Load(out);
+  EXPECT_EQ(vocabulary.branching(), 4);
+  EXPECT_EQ(vocabulary.levels(), 3);
+  EXPECT_EQ(vocabulary.training_images(), 2U);
+  EXPECT_GT(vocabulary.training_descriptors(), 900U);  // up to 500 an image
+  EXPECT_LE(vocabulary.training_descriptors(), 1000U);
+  EXPECT_THAT(result.out,
+              StartsWith(fmt::format("{}: {} words (k 4, L 3) from 2 images, {} descriptors; ORB ", out.string(),
+                                     vocabulary.word_count(), vocabulary.training_descriptors())));
+  EXPECT_THAT(result.out, HasSubstr("identity " + vocabulary.identity() + "\n"));
+}
+
+TEST(CliVocabulary, NamesWhatIsWrongAndWritesNothing) {
+  const testing::TempDir scratch;
+  const fs::path out = scratch / "v.hbow";
+  fs::create_directories(scratch / "empty");
+  ExpectOneErrorLine(RunHoidslam(scratch, {"vocabulary", "--images", (scratch / "empty").string(), "--out",
+                                           out.string()}),
+                     "parameter --images: no .png, .jpg or .jpeg image in " + (scratch / "empty").string());
+  ExpectOneErrorLine(RunHoidslam(scratch, {"vocabulary", "--images", (scratch / "nowhere").string(), "--out",
+                                           out.string()}),
+                     (scratch / "nowhere").string() + ": image folder does not exist");
+  fs::create_directories(scratch / "broken");
+  WriteText(scratch / "broken" / "frame.png", "not a PNG");
+  ExpectOneErrorLine(RunHoidslam(scratch, {"vocabulary", "--images", (scratch / "broken").string(), "--out",
+                                           out.string()}),
+                     (scratch / "broken" / "frame.png").string() + ": cannot decode the training image");
+  for (const auto& [option, value] : std::vector<std::pair<std::string, std::string>>{
+           {"--levels", "0"}, {"--branching", "65"}, {"--features", "0"}, {"--iterations", "0"}}) {
+    ExpectOneErrorLine(RunHoidslam(scratch, {"vocabulary", "--images", (scratch / "broken").string(), "--out",
+                                             out.string(), option, value}),
+                       "parameter " + option);
+  }
+  EXPECT_FALSE(fs::exists(out));
 }
 
 }  // namespace

@@ -14,5 +14,6 @@ void AddMasksCommand(CLI::App& app);
 void AddReportCommand(CLI::App& app);
 void AddRunCommand(CLI::App& app);
 void AddSynthCommand(CLI::App& app);
+void AddVocabularyCommand(CLI::App& app);
 
 }  // namespace hoidslam::apps

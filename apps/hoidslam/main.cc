@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
   hoidslam::apps::AddReportCommand(app);
   hoidslam::apps::AddRunCommand(app);
   hoidslam::apps::AddSynthCommand(app);
+  hoidslam::apps::AddVocabularyCommand(app);
 
   try {
     app.parse(argc, argv);
