@@ -12,6 +12,7 @@ std::span<const Target> Targets() {
       Target{"settings", &FuzzSettings},       Target{"tum_lists", &FuzzTumLists},
       Target{"associations", &FuzzAssociations}, Target{"trajectory", &FuzzTrajectory},
       Target{"detections", &FuzzDetections},   Target{"scenario", &FuzzScenario},
+      Target{"vocabulary", &FuzzVocabulary},
   };
   return kTargets;
 }

@@ -21,6 +21,7 @@ void FuzzAssociations(Bytes input);  // an associations file: io::RgbdSequence::
 void FuzzTrajectory(Bytes input);    // a TUM trajectory: io::ReadTumTrajectory
 void FuzzDetections(Bytes input);    // a detections file: io::DetectionsFile::Read
 void FuzzScenario(Bytes input);      // a scenario JSON file: synth::ParseScenario
+void FuzzVocabulary(Bytes input);    // a vocabulary file: bow::Vocabulary::Load
 
 std::span<const Target> Targets();
 

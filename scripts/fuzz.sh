@@ -14,7 +14,7 @@
 #                           reach code it does not (-merge=1 on edges only, which keeps the corpus small); by
 #                           default new inputs stay in DIR/new-corpus/<target>
 #   target...               some of the folders of fuzz/corpus: settings tum_lists associations trajectory
-#                           detections scenario (default: all)
+#                           detections scenario vocabulary (default: all)
 #
 # Findings go to DIR/findings/<target>/ (crash-*, timeout-*, oom-*), each run's log to DIR/logs/<target>.log.
 # To replay one input: DIR/fuzz/<target>_fuzzer <file>. On a shared machine, run it niced: nice -n 10 scripts/fuzz.sh
@@ -44,7 +44,7 @@ fi
 
 # shellcheck source=sanitizers/builds.sh
 source "$repo/scripts/sanitizers/builds.sh"
-# Only what the fuzz targets need is built here (core, io, synth, the test-support library and the targets); in a
+# Only what the fuzz targets need is built here (core, io, synth, bow, the test-support library and the targets); in a
 # folder where scripts/sanitize.sh asan ran, that is all built already. -O1 with line tables for the stack traces.
 hoidslam_configure_asan "$repo" "$build"
 cmake --build "$build" --target "${targets[@]/%/_fuzzer}" -j "$(nproc)"

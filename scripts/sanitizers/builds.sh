@@ -25,7 +25,7 @@ hoidslam_configure_sanitizer_build() {
 }
 
 # The ASan build: AddressSanitizer + UndefinedBehaviorSanitizer (every report aborts) for the whole test suite, and
-# with them the libFuzzer targets of fuzz/ (HOIDSLAM_BUILD_FUZZERS: core, io and synth also carry libFuzzer's
+# with them the libFuzzer targets of fuzz/ (HOIDSLAM_BUILD_FUZZERS: core, io, synth and bow also carry libFuzzer's
 # coverage counters; see cmake/HoidslamFuzzing.cmake).
 hoidslam_configure_asan() {
   hoidslam_configure_sanitizer_build "$1" "$2" "-fsanitize=address,undefined -fno-sanitize-recover=all" \
