@@ -246,5 +246,26 @@ TEST(Vocabulary, EqualDescriptorsMakeOneWordUnderTheRoot) {
   EXPECT_EQ(Vocabulary::Load(vocabulary.Serialize(), "one-word").tree(), vocabulary.tree());
 }
 
+// The vocabulary shipped in data/vocabulary, on real frames it was not trained on.
+TEST(ShippedVocabulary, LoadsAndTellsFramesOfOneSceneFromOtherPhotos) {
+  HOIDSLAM_SHARED_PATH_OR_SKIP(frame_path, fixtures::kTumFrame);
+  const Vocabulary vocabulary = Vocabulary::Load(std::filesystem::path(HOIDSLAM_VOCABULARY_DIR) / "orb-k10-l5.hbow");
+  EXPECT_EQ(vocabulary.branching(), 10);
+  EXPECT_EQ(vocabulary.levels(), 5);
+  EXPECT_GT(vocabulary.word_count(), 20000U);
+  EXPECT_LE(vocabulary.word_count(), 100000U);
+  EXPECT_GE(vocabulary.training_images(), 100U);
+
+  const BowVector frame = vocabulary.Transform(fixtures::OrbDescriptors(fixtures::ReadGray(frame_path))).bow;
+  EXPECT_GT(frame.size(), 500U);  // 1000 keypoints spread over many words
+  EXPECT_DOUBLE_EQ(Score(frame, frame), 1.0);
+  const cv::Mat later = fixtures::ReadGray(testing::SharedPath(fixtures::kLaterTumFrame));
+  const double to_later = Score(frame, vocabulary.Transform(fixtures::OrbDescriptors(later)).bow);
+  for (const char* photo : {"photos/bus.jpg", "photos/zidane.jpg", "textures/home.jpg", "textures/board.jpg"}) {
+    const cv::Mat other = fixtures::ReadGray(testing::SharedPath(std::string("data/") + photo));
+    EXPECT_GT(to_later, Score(frame, vocabulary.Transform(fixtures::OrbDescriptors(other)).bow)) << photo;
+  }
+}
+
 }  // namespace
 }  // namespace hoidslam::bow
