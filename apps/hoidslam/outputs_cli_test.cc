@@ -261,6 +261,7 @@ TEST(CliOutputs, ASyntheticSequenceWithoutMasksGetsCompleteOutputs) {
   EXPECT_FALSE(fs::exists(run / "snapshots"));  // and so not named by the closing line
   EXPECT_EQ(Summary(run).at("frames"), frames);
   EXPECT_TRUE(Summary(run).at("evaluation").is_object());
+  EXPECT_EQ(Summary(run).at("evaluation").at("relocalizations").at("false"), 0);  // every frame tracked in turn
 
   const RunResult reported = Succeed(scratch, {"report", run.string()});
   EXPECT_THAT(reported.out, HasSubstr("(ground truth " + (sequence / "groundtruth.txt").string() + ")"));

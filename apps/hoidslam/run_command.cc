@@ -20,9 +20,11 @@
 #include "hoidslam/core/error.h"
 #include "hoidslam/core/interrupt.h"
 #include "hoidslam/eval/evaluation.h"
+#include "hoidslam/eval/pose_check.h"
 #include "hoidslam/eval/statistics.h"
 #include "hoidslam/io/atomic_file.h"
 #include "hoidslam/io/settings.h"
+#include "hoidslam/io/trajectory_file.h"
 #include "hoidslam/pipeline/run.h"
 #include "hoidslam/report/html_report.h"
 
@@ -156,12 +158,20 @@ void RunRun(const RunArgs& args) {
   nlohmann::json json =
       SummaryJson(summary, sequence.name(), options.exclusion.ModeName(), detector->Name(), options.realtime);
   std::optional<eval::Evaluation> evaluation;
+  std::optional<eval::PoseCheck> relocalizations;
+  const eval::PoseCheckOptions relocalization_limits;
   const fs::path groundtruth = sequence.root() / "groundtruth.txt";
   if (!sequence.groundtruth().empty()) {
     try {
       evaluation = eval::EvaluateTrajectoryFiles(groundtruth, out.temporary() / "trajectory.txt", {});
       evaluation->estimate_path = out.path() / "trajectory.txt";  // where it will be once the folder is complete
       json["evaluation"] = eval::EvaluationToJson(*evaluation);
+      // Each pose relocalisation found, judged against the ground truth: a wrong one is worse than a lost frame.
+      relocalizations = eval::CheckPoses(io::ReadTumTrajectory(groundtruth),
+                                         io::ReadTumTrajectory(out.temporary() / "trajectory.txt"),
+                                         evaluation->ate.alignment, summary.relocalized,
+                                         evaluation->options.ate.association, relocalization_limits);
+      json["evaluation"]["relocalizations"] = eval::PoseCheckToJson(*relocalizations, relocalization_limits);
     } catch (const core::InputError& e) {
       spdlog::warn("not evaluated: {}", e.what());
     }
@@ -215,6 +225,11 @@ void RunRun(const RunArgs& args) {
              ms["load"].get<double>(), ms["extract"].get<double>(), ms["detect"].get<double>(),
              ms["filter"].get<double>(), ms["track"].get<double>(), ms["tracking_total"].get<double>());
   if (evaluation) fmt::print("{}", eval::FormatEvaluation(*evaluation));
+  if (relocalizations && !relocalizations->poses.empty()) {
+    fmt::print("relocalisations: {}, {} of them false (more than {:g} m or {:g}° from the ground truth)\n",
+               relocalizations->poses.size(), relocalizations->Wrong(), relocalization_limits.max_position_error,
+               relocalization_limits.max_rotation_error_deg);
+  }
   fmt::print("wrote {}/ ({})\n", out.path().string(), fmt::join(written, ", "));
   if (summary.interrupted) {
     spdlog::warn("interrupted after {} of {} frames; the outputs hold the frames done", summary.frames, sequence.size());

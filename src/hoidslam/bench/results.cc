@@ -75,6 +75,8 @@ RunResult ReadRunResult(const Plan& plan, const RunSpec& spec) {
     result.rpe_rotation_rmse = Optional(s, Pointer("/evaluation/rpe/rotation_deg/rmse"));
     result.leaked = Optional(s, Pointer("/exclusion_quality/leaked"));
     result.wasted = Optional(s, Pointer("/exclusion_quality/wasted"));
+    result.relocalizations = Optional(s, Pointer("/evaluation/relocalizations/count"));
+    result.false_relocalizations = Optional(s, Pointer("/evaluation/relocalizations/false"));
   } catch (const nlohmann::json::exception& e) {
     throw core::InputError::InFile(summary_path, fmt::format("not a run summary: {}", e.what()));
   }
@@ -104,6 +106,8 @@ nlohmann::json RunResultToJson(const RunResult& r) {
                {"rpe_rotation_rmse", optional(r.rpe_rotation_rmse)},
                {"leaked", optional(r.leaked)},
                {"wasted", optional(r.wasted)},
+               {"relocalizations", optional(r.relocalizations)},
+               {"false_relocalizations", optional(r.false_relocalizations)},
                {"median_ms",
                 {{"load", r.median_ms.load},
                  {"extract", r.median_ms.extract},

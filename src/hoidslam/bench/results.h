@@ -34,6 +34,8 @@ struct RunResult {
   std::optional<double> rpe_rotation_rmse;               // degrees per second
   StageMedians median_ms;
   std::optional<double> leaked, wasted;  // exclusion quality, shares in [0, 1], on sequences with masks
+  // Frames relocalisation found, and of those the false ones (eval/pose_check.h); absent without ground truth.
+  std::optional<double> relocalizations, false_relocalizations;
 };
 
 // Reads runs/<id>/summary.json, or the log when the folder is absent. Throws InputError naming summary.json

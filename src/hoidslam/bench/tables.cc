@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "hoidslam/eval/pose_check.h"
 #include "hoidslam/eval/statistics.h"
 
 namespace hoidslam::bench {
@@ -87,6 +88,7 @@ class Grid {
 std::string Metres(double v) { return fmt::format("{:.4f}", v); }
 std::string Percent(double v) { return fmt::format("{:.1f} %", 100.0 * v); }
 std::string Millis(double v) { return fmt::format("{:.2f}", v); }
+std::string Count(double v) { return fmt::format("{:g}", v); }
 
 std::optional<std::size_t> PlainVariant(const Plan& plan, const std::string& mode) {
   for (std::size_t v = 0; v < plan.variants.size(); ++v) {
@@ -101,8 +103,9 @@ std::vector<std::size_t> PlainVariants(const Plan& plan) {
   return variants;
 }
 
-std::string RunsNote(const Plan& plan, std::size_t runs) {
-  std::string note = fmt::format("Median of {} run{} per cell", runs, runs == 1 ? "" : "s");
+// `lead` says what a cell is; the note adds how the runs were made and what the marks mean.
+std::string RunsNote(const Plan& plan, std::string lead) {
+  std::string note = std::move(lead);
   if (plan.options.deterministic) note += " (deterministic mode)";
   if (plan.options.realtime) note += " (real-time mode)";
   if (plan.options.pace) note += " (paced at the recorded rate)";
@@ -116,6 +119,10 @@ std::string RunsNote(const Plan& plan, std::size_t runs) {
     if (!s.problem.empty()) note += fmt::format(" {} is missing: {}.", s.name, s.problem);
   }
   return note;
+}
+
+std::string RunsNote(const Plan& plan, std::size_t runs) {
+  return RunsNote(plan, fmt::format("Median of {} run{} per cell", runs, runs == 1 ? "" : "s"));
 }
 
 using CellText = std::function<std::string(std::size_t sequence, std::size_t variant)>;
@@ -248,7 +255,25 @@ std::vector<NamedTable> BuildTables(const Plan& plan, const std::vector<RunResul
                                     [](const RunResult& r) -> std::optional<double> {
                                       return static_cast<double>(r.lost + r.before_initialization);
                                     },
-                                    [](double v) { return fmt::format("{:g}", v); })});
+                                    Count)});
+  const eval::PoseCheckOptions limits;
+  const Value relocalizations = [](const RunResult& r) { return r.relocalizations; };
+  report::Table relocalized = PerMode(
+      plan,
+      fmt::format("False relocalisations (more than {:g} m or {:g}° from the ground truth) of all, over the runs",
+                  limits.max_position_error, limits.max_rotation_error_deg),
+      [&](std::size_t s, std::size_t v) {
+        if (!grid.MedianOf(s, v, relocalizations)) return grid.Cell(s, v, relocalizations, Count);  // says why not
+        double all = 0.0, wrong = 0.0;
+        for (const RunResult* r : grid.group(s, v).ok) {
+          all += *r->relocalizations;
+          wrong += r->false_relocalizations.value_or(0.0);
+        }
+        return fmt::format("{:g} of {:g}{}", wrong, all, grid.Shortfall(s, v));
+      });
+  relocalized.note = RunsNote(plan, fmt::format("Summed over the {} runs of each cell: a false relocalisation in "
+                                                "any of them is a failure", plan.options.runs));
+  tables.push_back({"relocalizations", std::move(relocalized)});
 
   const bool any_masks = std::any_of(plan.sequences.begin(), plan.sequences.end(),
                                      [](const BenchSequence& s) { return s.has_masks && s.problem.empty(); });

@@ -25,6 +25,9 @@ RunResult Ok(double ate, std::size_t lost = 0) {
   r.rpe_rotation_rmse = ate * 100;
   r.leaked = 0.1;
   r.wasted = 0.2;
+  // A run that lost frames found them again twice, once wrongly.
+  r.relocalizations = lost > 0 ? 2.0 : 0.0;
+  r.false_relocalizations = lost > 0 ? 1.0 : 0.0;
   r.median_ms = {.load = 10, .extract = 4, .detect = 0.1, .filter = 0.01, .track = 2, .tracking_total = 6};
   return r;
 }
@@ -172,6 +175,16 @@ TEST(BuildTables, WhatARealRecordingCannotBeScoredOnIsNotApplicable) {
   EXPECT_EQ(FindTable(real_tables, "wasted"), nullptr);
   EXPECT_THAT(Find(real_tables, "ate").rows[0], ElementsAre("walking_halfsphere", "0.0200", "0.0200"));
   EXPECT_EQ(Find(real_tables, "timing").rows[0][7], "2");
+}
+
+TEST_F(BenchTables, FalseRelocalisationsAreSummedOverTheRunsNotTheirMedian) {
+  const report::Table& table = Find(tables_, "relocalizations");
+  EXPECT_THAT(table.header, ElementsAre("sequence", "none", "hoid2d", "hoid3d", "oracle"));
+  // Run 3 of each cell relocalised twice, once wrongly; the median run none.
+  EXPECT_THAT(table.rows[0], ElementsAre("walking_xyz", "1 of 2", "1 of 2", "1 of 2", "1 of 2"));
+  EXPECT_THAT(table.rows[1], ElementsAre("carry", "1 of 2", "1 of 2 (2/3)", "failed", "1 of 2"));
+  EXPECT_EQ(table.rows[2][1], "missing");
+  EXPECT_TRUE(table.note.starts_with("Summed over the 3 runs of each cell")) << table.note;
 }
 
 TEST_F(BenchTables, LostExclusionQualityAndTiming) {

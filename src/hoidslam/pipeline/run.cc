@@ -331,6 +331,7 @@ RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detec
     summary.moving_points += static_cast<std::size_t>(result.moving_points);
     if (result.T_cw) {
       ++summary.tracked;
+      if (result.method == slam::TrackingMethod::kRelocalization) summary.relocalized.push_back(frame.timestamp);
     } else if (result.state == slam::TrackingState::kNotInitialized) {
       ++summary.before_initialization;
     } else {

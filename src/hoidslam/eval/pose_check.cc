@@ -1,0 +1,73 @@
+#include "hoidslam/eval/pose_check.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
+
+namespace hoidslam::eval {
+namespace {
+
+// The estimated poses are written with microsecond stamps: a stamp asked for matches the pose within this.
+constexpr double kStampTolerance = 1e-4;
+
+}  // namespace
+
+std::size_t PoseCheck::Wrong() const {
+  return static_cast<std::size_t>(std::count_if(poses.begin(), poses.end(), [](const CheckedPose& p) {
+    return p.wrong;
+  }));
+}
+
+PoseCheck CheckPoses(const core::Trajectory& groundtruth, const core::Trajectory& estimate,
+                     const Alignment& alignment, std::span<const double> stamps,
+                     const AssociationOptions& association, const PoseCheckOptions& options) {
+  association.Check();
+  const core::Trajectory gt = SortedUniqueByTime(groundtruth);
+  const core::Trajectory est = SortedUniqueByTime(estimate);
+  const std::vector<double> gt_stamps = Timestamps(gt);
+  const std::vector<double> est_stamps = Timestamps(est);
+  PoseCheck check;
+  for (const double stamp : stamps) {
+    if (est.empty() || gt.empty()) {
+      ++check.unmatched;
+      continue;
+    }
+    const core::StampedPose& pose = est[ClosestIndex(est_stamps, stamp)];
+    const core::StampedPose& truth = gt[ClosestIndex(gt_stamps, pose.timestamp + association.offset)];
+    if (std::abs(pose.timestamp - stamp) > kStampTolerance ||
+        !(std::abs(truth.timestamp - (pose.timestamp + association.offset)) < association.max_difference)) {
+      ++check.unmatched;
+      continue;
+    }
+    CheckedPose checked;
+    checked.timestamp = pose.timestamp;
+    checked.position_error = (alignment.Apply(pose.T_wc.translation()) - truth.T_wc.translation()).norm();
+    const Eigen::Matrix3d difference = truth.T_wc.linear().transpose() * alignment.rotation * pose.T_wc.linear();
+    checked.rotation_error_deg = Eigen::AngleAxisd(difference).angle() * 180.0 / std::numbers::pi;
+    checked.wrong = checked.position_error > options.max_position_error ||
+                    checked.rotation_error_deg > options.max_rotation_error_deg;
+    check.poses.push_back(checked);
+  }
+  return check;
+}
+
+nlohmann::json PoseCheckToJson(const PoseCheck& check, const PoseCheckOptions& options) {
+  nlohmann::json poses = nlohmann::json::array();
+  for (const CheckedPose& p : check.poses) {
+    poses.push_back({{"timestamp", p.timestamp},
+                     {"position_error_m", p.position_error},
+                     {"rotation_error_deg", p.rotation_error_deg},
+                     {"false", p.wrong}});
+  }
+  return {{"count", check.poses.size()},
+          {"false", check.Wrong()},
+          {"unmatched", check.unmatched},
+          {"max_position_error_m", options.max_position_error},
+          {"max_rotation_error_deg", options.max_rotation_error_deg},
+          {"poses", std::move(poses)}};
+}
+
+}  // namespace hoidslam::eval
