@@ -320,6 +320,13 @@ TEST(CliRun, NamesWhatIsMissingAndWritesNothing) {
   ExpectOneErrorLine(RunHoidslam(scratch, {"run", sequence.string(), "--detections", (scratch / "other.jsonl").string(),
                                            "--out", out.string()}),
                      "other.jsonl");
+  // A vocabulary that is not there, and one that is not a vocabulary.
+  ExpectOneErrorLine(RunHoidslam(scratch, {"run", sequence.string(), "--filter", "none", "--vocabulary",
+                                           (scratch / "none.hbow").string(), "--out", out.string()}),
+                     "none.hbow");
+  ExpectOneErrorLine(RunHoidslam(scratch, {"run", sequence.string(), "--filter", "none", "--vocabulary",
+                                           (scratch / "other.jsonl").string(), "--out", out.string()}),
+                     "other.jsonl");
   EXPECT_FALSE(fs::exists(out));
 }
 

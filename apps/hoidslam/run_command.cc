@@ -27,6 +27,7 @@
 #include "hoidslam/io/trajectory_file.h"
 #include "hoidslam/pipeline/run.h"
 #include "hoidslam/report/html_report.h"
+#include "hoidslam/slam/system.h"
 
 namespace hoidslam::apps {
 namespace {
@@ -41,6 +42,7 @@ struct RunArgs {
   std::optional<double> min_interaction_area;  // overrides HOID.minInteractionArea
   std::optional<double> depth_threshold;       // overrides HOID.depthThreshold
   std::string keypoint_budget{pipeline::ToString(pipeline::RunOptions{}.keypoint_budget)};
+  std::string vocabulary = slam::ShippedVocabulary().string();
   std::size_t snapshots = pipeline::RunOptions{}.snapshots;
   std::string out;
   std::size_t frames = 0;
@@ -138,6 +140,7 @@ void RunRun(const RunArgs& args) {
   options.keypoint_budget = pipeline::ParseKeypointBudget(args.keypoint_budget, "--keypoint-budget");
   options.snapshots = args.snapshots;
   options.system.deterministic = args.deterministic;
+  options.system.vocabulary = args.vocabulary;
   options.realtime.enabled = args.realtime;
   options.realtime.pace = args.pace;
   options.realtime.preload_megabytes = args.preload_megabytes;
@@ -267,6 +270,10 @@ void AddRunCommand(CLI::App& app) {
                       "Where a frame's ORBextractor.nFeatures keypoints go: static (to what the filter keeps: the frame "
                       "is extracted again outside what it drops, so a frame full of people still gets the whole "
                       "budget on the static world) or image (over the whole image, as ORB-SLAM does)")
+      ->capture_default_str();
+  command->add_option("--vocabulary", args->vocabulary,
+                      "Bag-of-words vocabulary place recognition describes keyframes and lost frames with "
+                      "(hoidslam vocabulary trains one; docs/vocabulary.md)")
       ->capture_default_str();
   command->add_option("--snapshots", args->snapshots,
                       "Annotated frames written to <out>/snapshots/, spread evenly over the run")

@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "hoidslam/bow/bow_vector.h"
 #include "hoidslam/core/pose.h"
 #include "hoidslam/slam/keypoints.h"
 #include "hoidslam/slam/map_point.h"
@@ -45,6 +46,10 @@ class KeyFrame {
   KeyFrame* parent() const { return parent_; }
   const std::vector<KeyFrame*>& children() const { return children_; }
   bool bad() const { return bad_; }
+  // Its bag of words and direct index (bow::Vocabulary::Transform of its keypoints): empty until local mapping
+  // computes them and enters the keyframe into the place-recognition database.
+  const bow::ImageWords& words() const { return words_; }
+
   // The pose relative to the parent, kept when the keyframe is culled, so frames that referred to it can still
   // be placed (see Map::EraseKeyFrame).
   const core::Pose& T_cp() const { return T_cp_; }
@@ -56,6 +61,7 @@ class KeyFrame {
   void EraseCovisible(const KeyFrame* other);
   void SortCovisibles();
   void AddChild(KeyFrame* child);
+  void SetWords(bow::ImageWords words) { words_ = std::move(words); }
   void EraseChild(const KeyFrame* child);
 
   KeyFrameId id_;
@@ -70,6 +76,7 @@ class KeyFrame {
   std::vector<KeyFrame*> children_;  // sorted by id
   bool bad_ = false;
   core::Pose T_cp_ = core::Pose::Identity();
+  bow::ImageWords words_;
 };
 
 }  // namespace hoidslam::slam

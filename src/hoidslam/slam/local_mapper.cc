@@ -76,7 +76,8 @@ void LocalMapperOptions::Check() const {
   }
 }
 
-LocalMapper::LocalMapper(Map& map, const LocalMapperOptions& options) : map_(map), options_(options) {
+LocalMapper::LocalMapper(Map& map, const bow::Vocabulary& vocabulary, const LocalMapperOptions& options)
+    : map_(map), vocabulary_(vocabulary), options_(options) {
   options_.Check();
 }
 
@@ -144,8 +145,11 @@ void LocalMapper::Loop(std::stop_token stop) {
 
 
 void LocalMapper::Process(KeyFrame* keyframe) {
+  // Its keypoints never change: described without the lock, entered into the database with it.
+  bow::ImageWords words = vocabulary_.Transform(keyframe->keypoints().descriptors());
   {
     std::unique_lock lock(map_.mutex());
+    map_.IndexKeyFrame(keyframe, std::move(words));
     // The points tracking matched and created get their descriptors, normals and ranges; the keyframe its edges.
     for (MapPoint* p : keyframe->map_points()) {
       if (p == nullptr || p->bad()) continue;

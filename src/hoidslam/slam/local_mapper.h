@@ -16,6 +16,7 @@
 #include <thread>
 #include <vector>
 
+#include "hoidslam/bow/vocabulary.h"
 #include "hoidslam/slam/bundle_adjustment.h"
 #include "hoidslam/slam/map.h"
 
@@ -32,7 +33,8 @@ struct LocalMapperOptions {
 
 class LocalMapper {
  public:
-  LocalMapper(Map& map, const LocalMapperOptions& options);
+  // Keyframes are described with `vocabulary` for place recognition; it must outlive the mapper.
+  LocalMapper(Map& map, const bow::Vocabulary& vocabulary, const LocalMapperOptions& options);
   ~LocalMapper();  // stops the thread, if started
   LocalMapper(const LocalMapper&) = delete;
   LocalMapper& operator=(const LocalMapper&) = delete;
@@ -61,6 +63,7 @@ class LocalMapper {
   void Loop(std::stop_token stop);
 
   Map& map_;
+  const bow::Vocabulary& vocabulary_;
   LocalMapperOptions options_;
 
   mutable std::mutex queue_mutex_;

@@ -160,6 +160,12 @@ void Map::EraseKeyFrame(KeyFrame* keyframe) {
   keyframe->T_cp_ = keyframe->T_cw_ * keyframe->parent_->T_wc_;
   keyframe->bad_ = true;
   --num_good_keyframes_;
+  database_.Erase(keyframe);
+}
+
+void Map::IndexKeyFrame(KeyFrame* keyframe, bow::ImageWords words) {
+  keyframe->SetWords(std::move(words));
+  database_.Add(keyframe);
 }
 
 std::vector<KeyFrame*> Map::KeyFrames() const {

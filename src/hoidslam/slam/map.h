@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "hoidslam/slam/keyframe.h"
+#include "hoidslam/slam/keyframe_database.h"
 #include "hoidslam/slam/map_point.h"
 
 namespace hoidslam::slam {
@@ -54,8 +55,11 @@ class Map {
   // covisible keyframe among the candidates (its parent and the children already re-parented), and it keeps its
   // pose relative to its parent. The first keyframe is never erased.
   void EraseKeyFrame(KeyFrame* keyframe);
+  // Gives the keyframe its bag of words and enters it into the place-recognition database.
+  void IndexKeyFrame(KeyFrame* keyframe, bow::ImageWords words);
 
   // --- Shared lock held ---
+  const KeyFrameDatabase& database() const { return database_; }
   // Good keyframes / points, by id.
   std::vector<KeyFrame*> KeyFrames() const;
   std::vector<MapPoint*> MapPoints() const;
@@ -67,6 +71,7 @@ class Map {
   std::deque<std::unique_ptr<KeyFrame>> keyframes_;  // every keyframe ever created, by id
   std::deque<std::unique_ptr<MapPoint>> points_;     // every point ever created, by id
   std::size_t num_good_keyframes_ = 0;
+  KeyFrameDatabase database_;
 };
 
 }  // namespace hoidslam::slam

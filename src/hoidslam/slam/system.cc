@@ -10,6 +10,8 @@
 
 namespace hoidslam::slam {
 
+std::filesystem::path ShippedVocabulary() { return HOIDSLAM_SHIPPED_VOCABULARY; }
+
 void SystemOptions::Check() const {
   if (!(bf > 0.0)) throw core::InputError::ForParameter("Camera.bf", fmt::format("must be > 0, got {}", bf));
   if (!(close_depth > 0.0)) {
@@ -39,8 +41,9 @@ LocalMapperOptions MapperOptions(const SystemOptions& options) {
 System::System(const SystemOptions& options)
     : options_(Checked(options)),
       extractor_(options.orb),
-      local_mapper_(map_, MapperOptions(options)),
-      tracker_(map_, local_mapper_, options.tracking) {
+      vocabulary_(bow::Vocabulary::Load(options.vocabulary)),
+      local_mapper_(map_, vocabulary_, MapperOptions(options)),
+      tracker_(map_, vocabulary_, local_mapper_, options.tracking) {
   sensor_ = Sensor::Make(options.camera, options.bf, options.close_depth, extractor_.pyramid());
   if (!options_.deterministic) local_mapper_.Start();
 }

@@ -5,12 +5,14 @@
 // trajectory and the map.
 
 #include <cstdint>
+#include <filesystem>
 #include <memory>
 #include <span>
 #include <vector>
 
 #include <opencv2/core/mat.hpp>
 
+#include "hoidslam/bow/vocabulary.h"
 #include "hoidslam/core/camera.h"
 #include "hoidslam/core/frame.h"
 #include "hoidslam/core/options.h"
@@ -23,6 +25,9 @@
 
 namespace hoidslam::slam {
 
+// The vocabulary shipped with hoidslam (data/vocabulary), where the build found it.
+std::filesystem::path ShippedVocabulary();
+
 struct SystemOptions {
   core::CameraIntrinsics camera;
   double bf = 40.0;           // Camera.bf: virtual baseline (metres) times fx (pixels)
@@ -33,6 +38,9 @@ struct SystemOptions {
   // Local mapping in step with tracking (no thread) and single-threaded bundle adjustment: the same input gives
   // a byte-identical trajectory on every run.
   bool deterministic = false;
+  // The bag-of-words vocabulary place recognition describes keyframes and lost frames with (docs/vocabulary.md):
+  // by default the one shipped in data/vocabulary.
+  std::filesystem::path vocabulary = ShippedVocabulary();
 
   void Check() const;
 };
@@ -82,6 +90,7 @@ class System {
   SystemOptions options_;
   std::shared_ptr<const Sensor> sensor_;
   features::OrbExtractor extractor_;
+  const bow::Vocabulary vocabulary_;
   Map map_;
   LocalMapper local_mapper_;
   Tracker tracker_;

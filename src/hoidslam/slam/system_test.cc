@@ -201,7 +201,9 @@ TrackResult TrackBareFrame(std::size_t kept) {
   const ExtractedFeatures features = system.Extract(frame.rgb);
   const TrackResult result = system.Track(frame, features, KeepSpread(features, kept));
   EXPECT_EQ(result.state, TrackingState::kOk);
-  if (result.T_cw) EXPECT_LT((result.T_cw->translation() - TrueTranslation(4)).norm(), 0.005);
+  if (result.T_cw) {
+    EXPECT_LT((result.T_cw->translation() - TrueTranslation(4)).norm(), 0.005);
+  }
   return result;
 }
 
@@ -248,6 +250,27 @@ TEST(System, AShortLossIsBridgedByTheMotionModelAndSaysWhy) {
     EXPECT_EQ(result.failure, TrackingFailure::kNone);
     EXPECT_LT((result.T_cw->translation() - TrueTranslation(k)).norm(), 0.005) << "frame " << k;
   }
+}
+
+TEST(System, ACameraCarriedBackToAPlaceItMappedIsRelocalisedThere) {
+  const cv::Mat texture = MakeTexture(3);
+  System system(Options());
+  ASSERT_NO_FATAL_FAILURE(TrackWholeFrames(system, texture, 20));
+  // Two seconds before another wall: lost, too long for the motion model to say where the camera went.
+  const cv::Mat elsewhere = MakeTexture(99);
+  double timestamp = MakeFrame(texture, 19).timestamp;
+  for (int k = 0; k < 60; ++k) {
+    core::RgbdFrame frame = MakeFrame(elsewhere, k % 20);
+    frame.timestamp = timestamp += 1.0 / 30.0;
+    ASSERT_EQ(system.Track(frame, system.Extract(frame.rgb), {}).state, TrackingState::kLost) << "frame " << k;
+  }
+  // Back where frame 5 was: the keyframes that look like it are found by their words, and the pose is found again.
+  core::RgbdFrame back = MakeFrame(texture, 5);
+  back.timestamp = timestamp + 1.0 / 30.0;
+  const TrackResult result = system.Track(back, system.Extract(back.rgb), {});
+  ASSERT_EQ(result.state, TrackingState::kOk);
+  EXPECT_EQ(result.method, TrackingMethod::kRelocalization);
+  EXPECT_LT((result.T_cw->translation() - TrueTranslation(5)).norm(), 0.005);
 }
 
 TEST(System, RejectsBadInput) {

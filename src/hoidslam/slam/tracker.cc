@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <map>
 #include <mutex>
-#include <numeric>
 #include <shared_mutex>
 #include <unordered_set>
 
@@ -122,8 +121,9 @@ void TrackerOptions::Check() const {
   }
 }
 
-Tracker::Tracker(Map& map, LocalMapper& local_mapper, const TrackerOptions& options)
-    : map_(map), local_mapper_(local_mapper), options_(options) {
+Tracker::Tracker(Map& map, const bow::Vocabulary& vocabulary, LocalMapper& local_mapper,
+                 const TrackerOptions& options)
+    : map_(map), vocabulary_(vocabulary), local_mapper_(local_mapper), options_(options) {
   options_.Check();
 }
 
@@ -558,38 +558,9 @@ int Tracker::EstimatePoseRansac(Frame& frame) {
 TrackingFailure Tracker::Relocalize(Frame& frame) {
   const KeypointSet& keypoints = *frame.keypoints;
   if (keypoints.size() < kMinDescriptorMatches) return TrackingFailure::kTooFewMatches;
-  const std::vector<KeyFrame*> keyframes = map_.KeyFrames();
-  if (keyframes.empty()) return TrackingFailure::kTooFewMatches;
-
-  // Votes: how often a keyframe's strongest points hold the nearest neighbour of one of the frame's descriptors.
-  constexpr int kSignatureSize = 64;
-  cv::Mat signatures;
-  std::vector<int> owner;
-  for (std::size_t k = 0; k < keyframes.size(); ++k) {
-    const KeyFrame& keyframe = *keyframes[k];
-    std::vector<int> rows;
-    for (int i = 0; i < keyframe.keypoints().size(); ++i) {
-      const MapPoint* p = keyframe.map_point(i);
-      if (p != nullptr && !p->bad()) rows.push_back(i);
-    }
-    std::stable_sort(rows.begin(), rows.end(), [&](int a, int b) {
-      return keyframe.keypoints().keypoint(a).response > keyframe.keypoints().keypoint(b).response;
-    });
-    rows.resize(std::min<std::size_t>(rows.size(), kSignatureSize));
-    for (const int i : rows) {
-      signatures.push_back(keyframe.keypoints().descriptors().row(i));
-      owner.push_back(static_cast<int>(k));
-    }
-  }
-  if (signatures.empty()) return TrackingFailure::kTooFewMatches;
-  std::vector<cv::DMatch> nearest;
-  cv::BFMatcher(cv::NORM_HAMMING).match(keypoints.descriptors(), signatures, nearest);
-  std::vector<int> votes(keyframes.size(), 0);
-  for (const cv::DMatch& m : nearest) {
-    if (m.distance <= kDescriptorDistanceLow) ++votes[static_cast<std::size_t>(owner[static_cast<std::size_t>(m.trainIdx)])];
-  }
-  // Candidates: the keyframe tracking last relied on and its neighbours (most losses are short), then the best-voted
-  // keyframes; tried in order of how many of their points the frame's descriptors match.
+  // Candidates: the keyframe tracking last relied on and its neighbours (most losses are short), then the keyframes
+  // that look most like the frame by their bags of words, from anywhere in the map; tried in order of how many of
+  // their points the frame's descriptors match.
   std::vector<KeyFrame*> candidates;
   std::unordered_set<const KeyFrame*> included;
   const auto consider = [&](KeyFrame* keyframe) {
@@ -599,11 +570,12 @@ TrackingFailure Tracker::Relocalize(Frame& frame) {
     consider(reference_keyframe_);
     for (KeyFrame* neighbour : reference_keyframe_->BestCovisibles(10)) consider(neighbour);
   }
-  std::vector<std::size_t> order(keyframes.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return votes[a] > votes[b]; });
-  const std::size_t voted = std::min(order.size(), static_cast<std::size_t>(options_.relocalization_candidates));
-  for (std::size_t t = 0; t < voted; ++t) consider(keyframes[order[t]]);
+  const bow::ImageWords words = vocabulary_.Transform(keypoints.descriptors(), 0);
+  for (KeyFrame* keyframe : map_.database().RelocalizationCandidates(
+           words.bow, static_cast<std::size_t>(options_.relocalization_candidates))) {
+    consider(keyframe);
+  }
+  if (candidates.empty()) return TrackingFailure::kTooFewMatches;
 
   std::vector<std::pair<int, std::size_t>> ranked;  // (matches, index into candidates)
   std::vector<std::vector<MapPoint*>> candidate_matches(candidates.size());

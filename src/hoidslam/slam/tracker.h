@@ -17,6 +17,7 @@
 #include <string_view>
 #include <vector>
 
+#include "hoidslam/bow/vocabulary.h"
 #include "hoidslam/slam/frame.h"
 #include "hoidslam/slam/local_mapper.h"
 #include "hoidslam/slam/map.h"
@@ -97,7 +98,8 @@ struct TrackResult {
 
 class Tracker {
  public:
-  Tracker(Map& map, LocalMapper& local_mapper, const TrackerOptions& options);
+  // Lost frames are described with `vocabulary` to find their place; it must outlive the tracker.
+  Tracker(Map& map, const bow::Vocabulary& vocabulary, LocalMapper& local_mapper, const TrackerOptions& options);
 
   // Tracks the next frame (frame ids increase by one from 0). Takes the map's lock as map.h describes.
   TrackResult Track(Frame frame);
@@ -147,6 +149,7 @@ class Tracker {
   void CreateKeyFrame(Frame& frame);
 
   Map& map_;
+  const bow::Vocabulary& vocabulary_;
   LocalMapper& local_mapper_;
   TrackerOptions options_;
 

@@ -1,0 +1,34 @@
+#pragma once
+// The place-recognition database: an inverted index from each vocabulary word to the keyframes whose bag of words
+// holds it, so that the keyframes that look like a frame are found without comparing it with every keyframe.
+// Only keypoints the exclusion filter kept ever reach a keyframe, so a place is never recognised by a person.
+//
+// Owned by the Map and locked with it (map.h): queried under its lock shared, changed under it exclusively.
+
+#include <cstddef>
+#include <vector>
+
+#include "hoidslam/bow/bow_vector.h"
+
+namespace hoidslam::slam {
+
+class KeyFrame;
+
+class KeyFrameDatabase {
+ public:
+  // Indexes the keyframe by the words of its bag of words (KeyFrame::words()).
+  void Add(KeyFrame* keyframe);
+  void Erase(const KeyFrame* keyframe);
+
+  // ORB-SLAM's relocalisation candidates for a frame's bag of words: of the keyframes sharing a word with it,
+  // those sharing at least 80 % as many words as the best are scored (bow::Score); each is credited with the
+  // scores of its 10 best covisible keyframes among them, since a place is seen by several keyframes, and the best
+  // of each group whose credit reaches 75 % of the best credit is returned, best credit first (ties by id), at most
+  // `max_candidates` of them.
+  std::vector<KeyFrame*> RelocalizationCandidates(const bow::BowVector& words, std::size_t max_candidates) const;
+
+ private:
+  std::vector<std::vector<KeyFrame*>> keyframes_by_word_;
+};
+
+}  // namespace hoidslam::slam
