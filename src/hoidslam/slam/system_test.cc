@@ -273,6 +273,37 @@ TEST(System, ACameraCarriedBackToAPlaceItMappedIsRelocalisedThere) {
   EXPECT_LT((result.T_cw->translation() - TrueTranslation(5)).norm(), 0.005);
 }
 
+TEST(System, ARelocalisationBeyondTheCameraReachAfterAShortLossIsRefused) {
+  const cv::Mat texture = MakeTexture(3);
+  SystemOptions options = Options();
+  options.tracking.reach_distance = 0.05;   // m
+  options.tracking.max_camera_speed = 0.1;  // m/s: the camera can go 0.15 m in the second after a loss
+  System system(options);
+  ASSERT_NO_FATAL_FAILURE(TrackWholeFrames(system, texture, 20));
+  // Three frames of another wall, then the view of frame 0, 0.21 m back: further than the camera could go in
+  // 0.13 s, so no pose is taken, however well the map fits it.
+  const cv::Mat elsewhere = MakeTexture(99);
+  double timestamp = MakeFrame(texture, 19).timestamp;
+  const auto next = [&](const cv::Mat& wall, int k) {
+    core::RgbdFrame frame = MakeFrame(wall, k);
+    frame.timestamp = timestamp += 1.0 / 30.0;
+    return system.Track(frame, system.Extract(frame.rgb), {});
+  };
+  for (int k = 0; k < 3; ++k) ASSERT_EQ(next(elsewhere, k).state, TrackingState::kLost);
+  const TrackResult refused = next(texture, 0);
+  EXPECT_EQ(refused.state, TrackingState::kLost);
+  EXPECT_EQ(refused.failure, TrackingFailure::kPoseRejected);
+  // Once a second has passed, the camera may be anywhere: the same view is relocalised, and not before.
+  const double last_tracked = MakeFrame(texture, 19).timestamp;
+  TrackResult result;
+  while (timestamp < last_tracked + 1.5 && (result = next(texture, 0)).state != TrackingState::kOk) {
+  }
+  ASSERT_EQ(result.state, TrackingState::kOk);
+  EXPECT_GT(timestamp - last_tracked, 1.0);
+  EXPECT_EQ(result.method, TrackingMethod::kRelocalization);
+  EXPECT_LT((result.T_cw->translation() - TrueTranslation(0)).norm(), 0.005);
+}
+
 TEST(System, RejectsBadInput) {
   SystemOptions bad = Options();
   bad.bf = 0.0;

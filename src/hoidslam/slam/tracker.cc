@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <map>
 #include <mutex>
+#include <numbers>
 #include <shared_mutex>
 #include <unordered_set>
 
@@ -103,6 +104,10 @@ void TrackerOptions::Check() const {
   positive(moving_point_depth, "Tracking.movingPointDepth");
   positive(min_inliers_floor, "Tracking.minInliersFloor");
   positive(max_motion_gap, "Tracking.maxMotionGap");
+  positive(reach_distance, "Tracking.reachDistance");
+  positive(max_camera_speed, "Tracking.maxCameraSpeed");
+  positive(reach_angle_deg, "Tracking.reachAngle");
+  positive(max_camera_turn_rate_deg, "Tracking.maxCameraTurnRate");
   const auto in_unit = [](double value, const char* name) {
     if (!(value > 0.0 && value <= 1.0)) {
       throw core::InputError::ForParameter(name, fmt::format("must be in (0, 1], got {}", value));
@@ -330,7 +335,9 @@ TrackingFailure Tracker::TrackFromPrediction(Frame& frame) {
   const int inliers = consistent < kMinFirstEstimateInliers ? 0 : OptimizeFramePose(frame, true);
   spdlog::debug("frame {}: prediction after {:.2f} s: {} matches, {} consistent, {} inliers", frame.id, elapsed,
                 matches, consistent, inliers);
-  return inliers >= kMinFirstEstimateInliers ? TrackingFailure::kNone : TrackingFailure::kPoseRejected;
+  // RANSAC may settle anywhere the matches agree: only a pose the camera could have reached is taken.
+  return inliers >= kMinFirstEstimateInliers && WithinReach(frame) ? TrackingFailure::kNone
+                                                                   : TrackingFailure::kPoseRejected;
 }
 
 TrackingFailure Tracker::TrackReferenceKeyFrame(Frame& frame) {
@@ -555,6 +562,16 @@ int Tracker::EstimatePoseRansac(Frame& frame) {
   return static_cast<int>(inliers.size());
 }
 
+bool Tracker::WithinReach(const Frame& frame) const {
+  const Frame& last = *last_frame_;
+  const double gap = frame.timestamp - last.timestamp;
+  if (gap > options_.max_motion_gap) return true;  // time enough to have gone anywhere
+  const core::Pose motion = frame.T_cw * last.T_cw.inverse();  // its translation: between the camera centres
+  const double turn_deg = Eigen::AngleAxisd(motion.linear()).angle() * 180.0 / std::numbers::pi;
+  return motion.translation().norm() <= options_.reach_distance + options_.max_camera_speed * gap &&
+         turn_deg <= options_.reach_angle_deg + options_.max_camera_turn_rate_deg * gap;
+}
+
 TrackingFailure Tracker::Relocalize(Frame& frame) {
   const KeypointSet& keypoints = *frame.keypoints;
   if (keypoints.size() < kMinDescriptorMatches) return TrackingFailure::kTooFewMatches;
@@ -611,10 +628,14 @@ TrackingFailure Tracker::Relocalize(Frame& frame) {
     }
     spdlog::debug("frame {}: relocalisation candidate keyframe {}: {} PnP inliers, {} after optimisation", frame.id,
                   candidate->id(), consistent, good);
-    if (good >= options_.min_inliers_after_relocalization) {
-      frame.reference_keyframe = candidate;
-      return TrackingFailure::kNone;
+    if (good < options_.min_inliers_after_relocalization) continue;
+    if (!WithinReach(frame)) {
+      spdlog::debug("frame {}: relocalisation candidate keyframe {}: out of the camera's reach", frame.id,
+                    candidate->id());
+      continue;
     }
+    frame.reference_keyframe = candidate;
+    return TrackingFailure::kNone;
   }
   ClearMatches(frame);
   return ranked.empty() ? TrackingFailure::kTooFewMatches : TrackingFailure::kPoseRejected;
