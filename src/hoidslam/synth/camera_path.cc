@@ -15,15 +15,18 @@
 #include "hoidslam/core/error.h"
 #include "hoidslam/io/rgbd_sequence.h"
 #include "hoidslam/io/trajectory_file.h"
+#include "hoidslam/synth/option_checks.h"
+#include "hoidslam/synth/random.h"
 
 namespace hoidslam::synth {
 namespace {
 
-constexpr core::EnumNames<ProceduralMotion, 4> kMotionNames = {{
+constexpr core::EnumNames<ProceduralMotion, 5> kMotionNames = {{
     {ProceduralMotion::kStatic, "static"},
     {ProceduralMotion::kXyz, "xyz"},
     {ProceduralMotion::kHalfsphere, "halfsphere"},
     {ProceduralMotion::kRpy, "rpy"},
+    {ProceduralMotion::kCircle, "circle"},
 }};
 
 double Radians(double degrees) { return degrees * std::numbers::pi / 180.0; }
@@ -71,6 +74,60 @@ std::optional<StampClash> FindStampClash(const std::vector<CameraFrame>& frames)
   return std::nullopt;
 }
 
+// The first camera's view direction made level (in its own frame), or zero when it looks straight up or down.
+Eigen::Vector3d LevelForward(const core::Pose& T_anchor) {
+  const Eigen::Vector3d up = T_anchor.linear().transpose() * Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d level = Eigen::Vector3d::UnitZ() - up.z() * up;
+  return level.norm() > 1e-6 ? Eigen::Vector3d(level.normalized()) : Eigen::Vector3d::Zero();
+}
+
+// A smooth hand-held shake: along and about each camera axis, a sum of sines of seeded frequencies. The
+// frequencies are not multiples of the turn rate, so a camera going round twice never repeats its poses; every
+// sine starts at zero, so the first pose is the anchor; the weights add up to one, so the bounds hold.
+class HandShake {
+ public:
+  explicit HandShake(std::uint64_t seed) {
+    Random random(seed);
+    for (auto& axis : axes_) {
+      double total = 0.0;
+      for (Sine& sine : axis) {
+        // One random number per statement: the order of evaluation within one is the compiler's choice.
+        sine.frequency = random.Uniform(0.05, 0.5);  // Hz: a slow sway, not a tremor
+        sine.weight = random.Uniform(0.3, 1.0);
+        if (random.Bernoulli(0.5)) sine.weight = -sine.weight;
+        total += std::abs(sine.weight);
+      }
+      for (Sine& sine : axis) sine.weight /= total;
+    }
+  }
+
+  // The shake at `elapsed` seconds, within `metres` along and `radians` about each camera axis.
+  core::Pose At(double elapsed, double metres, double radians) const {
+    Eigen::Matrix<double, 6, 1> value;
+    for (std::size_t i = 0; i < axes_.size(); ++i) {
+      double sum = 0.0;
+      for (const Sine& sine : axes_[i]) {
+        sum += sine.weight * std::sin(2.0 * std::numbers::pi * sine.frequency * elapsed);
+      }
+      value[static_cast<Eigen::Index>(i)] = sum;
+    }
+    core::Pose shake = core::Pose::Identity();
+    shake.translation() = metres * value.head<3>();
+    shake.linear() = (Eigen::AngleAxisd(radians * value[3], Eigen::Vector3d::UnitX()) *
+                      Eigen::AngleAxisd(radians * value[4], Eigen::Vector3d::UnitY()) *
+                      Eigen::AngleAxisd(radians * value[5], Eigen::Vector3d::UnitZ()))
+                         .toRotationMatrix();
+    return shake;
+  }
+
+ private:
+  struct Sine {
+    double frequency = 0.0;
+    double weight = 0.0;
+  };
+  std::array<std::array<Sine, 3>, 6> axes_;  // x, y, z along, then about, the camera axes
+};
+
 // The motion relative to the first pose, in the first camera's frame, at `phase` radians of the cycle.
 core::Pose RelativeMotion(const ProceduralPathOptions& o, double phase) {
   const double a = o.amplitude;
@@ -98,6 +155,15 @@ core::Pose RelativeMotion(const ProceduralPathOptions& o, double phase) {
                                            .toRotationMatrix();
       motion.linear() = rotation;
       motion.translation() = pivot - rotation * pivot;
+      break;
+    }
+    case ProceduralMotion::kCircle: {
+      // Turn about the vertical through the centre, `radius` behind the first pose on the level.
+      const Eigen::Vector3d up = o.T_anchor.linear().transpose() * Eigen::Vector3d::UnitZ();
+      const Eigen::Vector3d centre = -o.radius * LevelForward(o.T_anchor);
+      const Eigen::Matrix3d rotation = Eigen::AngleAxisd(phase, up).toRotationMatrix();
+      motion.linear() = rotation;
+      motion.translation() = centre - rotation * centre;
       break;
     }
   }
@@ -143,6 +209,11 @@ void ProceduralPathOptions::Check() const {
     fail("pivot_distance", fmt::format("must be > 0 metres, got {}", pivot_distance));
   }
   if (!(period > 0.0 && std::isfinite(period))) fail("period", fmt::format("must be > 0 seconds, got {}", period));
+  if (motion != ProceduralMotion::kCircle) return;
+  if (!(radius > 0.0 && std::isfinite(radius))) fail("radius", fmt::format("must be > 0 metres, got {}", radius));
+  CheckInRange(wobble, 0.0, 0.5, "camera.wobble");
+  CheckInRange(wobble_angle_deg, 0.0, 10.0, "camera.wobble_angle_deg");
+  if (LevelForward(T_anchor).isZero()) fail("pitch_deg", "the circle camera cannot look straight up or down");
 }
 
 core::Pose LerpPose(const core::Pose& a, const core::Pose& b, double s) {
@@ -204,12 +275,16 @@ CameraPath CameraPath::FromTum(const std::filesystem::path& groundtruth, const s
 
 CameraPath CameraPath::Procedural(const ProceduralPathOptions& options) {
   options.Check();
+  const HandShake shake(options.wobble_seed);
   CameraPath path;
   path.frames_.reserve(options.frames);
   for (std::size_t i = 0; i < options.frames; ++i) {
     const double elapsed = static_cast<double>(i) / options.fps;
     const double timestamp = options.start_time + elapsed;
-    const core::Pose T_wc = options.T_anchor * RelativeMotion(options, 2.0 * std::numbers::pi * elapsed / options.period);
+    core::Pose T_wc = options.T_anchor * RelativeMotion(options, 2.0 * std::numbers::pi * elapsed / options.period);
+    if (options.motion == ProceduralMotion::kCircle) {
+      T_wc = T_wc * shake.At(elapsed, options.wobble, Radians(options.wobble_angle_deg));
+    }
     path.frames_.push_back({timestamp, timestamp, T_wc});
   }
   if (const auto clash = FindStampClash(path.frames_)) {

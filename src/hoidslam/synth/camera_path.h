@@ -6,6 +6,7 @@
 // so the first camera pose is T_anchor and every motion relative to it is the real one.
 
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -32,15 +33,17 @@ struct CameraFrame {
   core::Pose T_wc = core::Pose::Identity();
 };
 
-// Shapes of procedural motion, named after the TUM fr3 sequences they imitate.
+// Shapes of procedural motion, named after the TUM fr3 sequences they imitate, and a loop through the room.
 enum class ProceduralMotion {
   kStatic,      // "static": the camera stands still
   kXyz,         // "xyz": translation along the three axes, orientation fixed
   kHalfsphere,  // "halfsphere": an arc on a sphere around a point in front of the camera, looking at it
   kRpy,         // "rpy": rotation about the three axes, position fixed
+  kCircle,      // "circle": round a vertical axis `radius` behind the first pose, facing outwards, one turn
+                // (counter-clockwise seen from above) per `period`, with a seeded hand-held shake
 };
 std::string_view ToString(ProceduralMotion motion);
-// Parses "static", "xyz", "halfsphere", "rpy"; throws InputError naming `parameter` otherwise.
+// Parses "static", "xyz", "halfsphere", "rpy", "circle"; throws InputError naming `parameter` otherwise.
 ProceduralMotion ParseProceduralMotion(std::string_view text, const std::string& parameter);
 
 struct ProceduralPathOptions {
@@ -51,7 +54,13 @@ struct ProceduralPathOptions {
   double amplitude = 0.25;         // metres, >= 0: xyz excursion
   double angle_amplitude_deg = 15; // degrees, in [0, 90]: rpy rotation and halfsphere sweep
   double pivot_distance = 2.0;     // metres, > 0: halfsphere orbits the point this far ahead of the first pose
-  double period = 12.0;            // seconds, > 0: time of one full cycle
+  double period = 12.0;            // seconds, > 0: time of one full cycle (circle: one turn)
+  double radius = 0.5;             // metres, > 0: circle radius
+  // The circle's hand-held shake, so that a second turn sees the room from nearly, not exactly, the same poses:
+  // smooth, zero at the first frame, within these bounds along and about each camera axis.
+  double wobble = 0.03;            // metres, in [0, 0.5]
+  double wobble_angle_deg = 2.0;   // degrees, in [0, 10]
+  std::uint64_t wobble_seed = 1;
   core::Pose T_anchor = core::Pose::Identity();  // the pose at the first frame
 
   // Throws InputError naming the parameter ("camera.fps", ...).

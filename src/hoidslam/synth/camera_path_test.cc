@@ -1,6 +1,8 @@
 #include "hoidslam/synth/camera_path.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <numbers>
 #include <string>
@@ -210,8 +212,9 @@ TEST(CameraPath, ProceduralPathsStartAtTheAnchorAndMoveAsNamed) {
   options.frames = 90;
   options.fps = 30.0;
   options.start_time = 5.0;
-  for (const ProceduralMotion motion :
-       {ProceduralMotion::kStatic, ProceduralMotion::kXyz, ProceduralMotion::kHalfsphere, ProceduralMotion::kRpy}) {
+  for (const ProceduralMotion motion : {ProceduralMotion::kStatic, ProceduralMotion::kXyz,
+                                       ProceduralMotion::kHalfsphere, ProceduralMotion::kRpy,
+                                       ProceduralMotion::kCircle}) {
     options.motion = motion;
     EXPECT_EQ(ParseProceduralMotion(ToString(motion), "camera.motion"), motion);
     const CameraPath path = CameraPath::Procedural(options);
@@ -233,14 +236,116 @@ TEST(CameraPath, ProceduralPathsStartAtTheAnchorAndMoveAsNamed) {
         EXPECT_NEAR(pivot_c.y(), 0.0, 1e-9);
       }
     }
-    EXPECT_EQ(moved > 0.01, motion == ProceduralMotion::kXyz || motion == ProceduralMotion::kHalfsphere)
+    const bool circle = motion == ProceduralMotion::kCircle;
+    EXPECT_EQ(moved > 0.01, motion == ProceduralMotion::kXyz || motion == ProceduralMotion::kHalfsphere || circle)
         << ToString(motion);
-    EXPECT_EQ(turned > 0.01, motion == ProceduralMotion::kRpy || motion == ProceduralMotion::kHalfsphere)
+    EXPECT_EQ(turned > 0.01, motion == ProceduralMotion::kRpy || motion == ProceduralMotion::kHalfsphere || circle)
         << ToString(motion);
   }
   EXPECT_NE(Message([] { ParseProceduralMotion("spin", "camera.motion"); }).find("camera.motion"), std::string::npos);
   options.fps = 0.0;
   EXPECT_NE(Message([&] { CameraPath::Procedural(options); }).find("camera.fps"), std::string::npos);
+}
+
+// Two turns of 10 s at 10 Hz round a circle of 0.6 m, starting at (4.0, 2.5, 1.4) looking along +y, 10 degrees down.
+ProceduralPathOptions TwoTurns(double wobble, double wobble_angle_deg, std::uint64_t wobble_seed = 1) {
+  ProceduralPathOptions options;
+  options.motion = ProceduralMotion::kCircle;
+  options.T_anchor = CameraPoseFromYawPitch({4.0, 2.5, 1.4}, 90.0, -10.0);
+  options.radius = 0.6;
+  options.period = 10.0;
+  options.fps = 10.0;
+  options.frames = 200;
+  options.wobble = wobble;
+  options.wobble_angle_deg = wobble_angle_deg;
+  options.wobble_seed = wobble_seed;
+  return options;
+}
+
+// Heading of the camera's view on the level, radians (0 = +x, pi/2 = +y).
+double Heading(const core::Pose& T_wc) {
+  const Eigen::Vector3d forward = T_wc.linear().col(2);
+  return std::atan2(forward.y(), forward.x());
+}
+
+TEST(CameraPath, CircleGoesRoundTheCentreBehindTheFirstPoseFacingOutwards) {
+  const CameraPath path = CameraPath::Procedural(TwoTurns(0.0, 0.0));
+  ASSERT_EQ(path.size(), 200U);
+  const Eigen::Vector2d centre(4.0, 1.9);
+  double turned = 0.0;
+  for (std::size_t i = 0; i < path.size(); ++i) {
+    const core::Pose& T_wc = path.frames()[i].T_wc;
+    const Eigen::Vector2d outwards = T_wc.translation().head<2>() - centre;
+    EXPECT_NEAR(outwards.norm(), 0.6, 1e-9);
+    EXPECT_NEAR(T_wc.translation().z(), 1.4, 1e-9);
+    EXPECT_NEAR(Heading(T_wc), std::atan2(outwards.y(), outwards.x()), 1e-9);
+    EXPECT_NEAR(T_wc.linear().col(2).z(), -std::sin(10.0 * std::numbers::pi / 180.0), 1e-9);  // pitch kept
+    EXPECT_NEAR(T_wc.linear().col(0).z(), 0.0, 1e-9);                                       // level horizon
+    if (i > 0) {
+      const double step = std::remainder(Heading(T_wc) - Heading(path.frames()[i - 1].T_wc), 2.0 * std::numbers::pi);
+      EXPECT_NEAR(step, 2.0 * std::numbers::pi / 100.0, 1e-9);  // counter-clockwise, a turn in 100 frames
+      turned += step;
+    }
+  }
+  EXPECT_NEAR(turned, 2.0 * std::numbers::pi * 199.0 / 100.0, 1e-6);
+  ExpectPoseNear(path.frames()[100].T_wc, path.frames()[0].T_wc, 1e-9);  // without a shake, turns repeat exactly
+}
+
+TEST(CameraPath, CircleShakeIsSmallSmoothSeededAndMakesEveryTurnDiffer) {
+  const double wobble = 0.03;
+  const double wobble_angle = 2.0 * std::numbers::pi / 180.0;
+  const CameraPath plain = CameraPath::Procedural(TwoTurns(0.0, 0.0));
+  const CameraPath shaken = CameraPath::Procedural(TwoTurns(wobble, 2.0));
+  const CameraPath again = CameraPath::Procedural(TwoTurns(wobble, 2.0));
+  const CameraPath other_seed = CameraPath::Procedural(TwoTurns(wobble, 2.0, 2));
+  double largest_shift = 0.0;
+  double largest_tilt = 0.0;
+  double smallest_turn_difference = 1.0;
+  double largest_turn_difference = 0.0;
+  double largest_seed_difference = 0.0;
+  for (std::size_t i = 0; i < plain.size(); ++i) {
+    const core::Pose shake = plain.frames()[i].T_wc.inverse() * shaken.frames()[i].T_wc;
+    EXPECT_LE(shake.translation().cwiseAbs().maxCoeff(), wobble + 1e-12);
+    EXPECT_LE(Eigen::AngleAxisd(shake.linear()).angle(), 3.0 * wobble_angle);
+    largest_shift = std::max(largest_shift, shake.translation().norm());
+    largest_tilt = std::max(largest_tilt, Eigen::AngleAxisd(shake.linear()).angle());
+    EXPECT_TRUE(again.frames()[i].T_wc.isApprox(shaken.frames()[i].T_wc, 0.0));
+    largest_seed_difference = std::max(
+        largest_seed_difference,
+        (other_seed.frames()[i].T_wc.translation() - shaken.frames()[i].T_wc.translation()).norm());
+    if (i > 0) {  // smooth: a sway of at most 0.5 Hz moves at most 16 mm in 0.1 s (noise would move up to 0.1 m)
+      const core::Pose before = plain.frames()[i - 1].T_wc.inverse() * shaken.frames()[i - 1].T_wc;
+      EXPECT_LT((shake.translation() - before.translation()).norm(), 0.02);
+    }
+    if (i >= 100) {  // the same phase of the first turn: close, but never the same pose
+      const core::Pose& first = shaken.frames()[i - 100].T_wc;
+      const core::Pose& second = shaken.frames()[i].T_wc;
+      const double difference = std::max((second.translation() - first.translation()).norm(),
+                                         Eigen::AngleAxisd(first.linear().transpose() * second.linear()).angle());
+      smallest_turn_difference = std::min(smallest_turn_difference, difference);
+      largest_turn_difference = std::max(largest_turn_difference, difference);
+    }
+  }
+  // The shake uses much of its bounds, and it differs from one turn to the next by millimetres to centimetres.
+  EXPECT_GT(largest_shift, 0.3 * wobble);
+  EXPECT_GT(largest_tilt, 0.3 * wobble_angle);
+  EXPECT_GT(smallest_turn_difference, 1e-4);
+  EXPECT_GT(largest_turn_difference, 0.01);
+  EXPECT_LT(largest_turn_difference, 2.0 * std::sqrt(3.0) * wobble + 1e-9);
+  EXPECT_GT(largest_seed_difference, 0.01);
+}
+
+TEST(CameraPath, CircleOptionsOutOfRangeNameTheirKey) {
+  ProceduralPathOptions options = TwoTurns(0.03, 2.0);
+  options.radius = 0.0;
+  EXPECT_NE(Message([&] { CameraPath::Procedural(options); }).find("camera.radius"), std::string::npos);
+  options = TwoTurns(0.6, 2.0);
+  EXPECT_NE(Message([&] { CameraPath::Procedural(options); }).find("camera.wobble"), std::string::npos);
+  options = TwoTurns(0.03, 11.0);
+  EXPECT_NE(Message([&] { CameraPath::Procedural(options); }).find("camera.wobble_angle_deg"), std::string::npos);
+  options = TwoTurns(0.03, 2.0);
+  options.T_anchor = core::Pose::Identity();  // looks straight up: no level direction to turn about
+  EXPECT_NE(Message([&] { CameraPath::Procedural(options); }).find("camera.pitch_deg"), std::string::npos);
 }
 
 TEST(CameraPath, PoseHelpersFollowTheOpticalFrameConvention) {
