@@ -22,6 +22,9 @@ namespace {
 
 using nlohmann::json;
 
+constexpr int kMaxCameraFrames = 1000000;
+constexpr double kDefaultCircleTurns = 2.0;
+
 constexpr core::EnumNames<ActionType, 11> kActionNames = {{
     {ActionType::kWalkTo, "walk_to"},
     {ActionType::kStop, "stop"},
@@ -162,8 +165,12 @@ core::Pose ParseAnchor(const Node& camera) {
 }
 
 CameraSpec ParseCamera(const Node& camera) {
+  static constexpr std::array kProceduralKeys = {"fps", "frames", "amplitude", "angle_amplitude_deg", "period",
+                                                 "start_time"};
+  static constexpr std::array kCircleKeys = {"radius", "turns", "wobble", "wobble_angle_deg", "wobble_seed"};
   camera.AllowOnly({"tum", "procedural", "fps", "frames", "amplitude", "angle_amplitude_deg", "period", "start_time",
-                    "position", "look_at", "yaw_deg", "pitch_deg"});
+                    "radius", "turns", "wobble", "wobble_angle_deg", "wobble_seed", "position", "look_at", "yaw_deg",
+                    "pitch_deg"});
   CameraSpec spec;
   spec.T_anchor = ParseAnchor(camera);
   if (camera.Has("tum") == camera.Has("procedural")) camera.Fail("give exactly one of 'tum' and 'procedural'");
@@ -172,20 +179,45 @@ CameraSpec ParseCamera(const Node& camera) {
     if (spec.tum.empty() || spec.tum.find('/') != std::string::npos || spec.tum.find("..") != std::string::npos) {
       camera.Child("tum").Fail("must be a TUM path name such as 'fr3_walking_xyz'");
     }
-    for (const char* key : {"fps", "frames", "amplitude", "angle_amplitude_deg", "period", "start_time"}) {
+    for (const char* key : kProceduralKeys) {
       if (camera.Has(key)) camera.Child(key).Fail("only for a procedural camera");
+    }
+    for (const char* key : kCircleKeys) {
+      if (camera.Has(key)) camera.Child(key).Fail("only for a procedural circle camera");
     }
     return spec;
   }
   ProceduralPathOptions& p = spec.procedural;
   p.motion = camera.Child("procedural").Parsed(ParseProceduralMotion);
   p.fps = camera.NumberOr("fps", p.fps, 1.0, 1000.0);
-  if (camera.Has("frames")) p.frames = static_cast<std::size_t>(camera.Child("frames").Int(1, 1000000));
+  if (camera.Has("frames")) p.frames = static_cast<std::size_t>(camera.Child("frames").Int(1, kMaxCameraFrames));
   p.amplitude = camera.NumberOr("amplitude", p.amplitude, 0.0, 3.0);
   p.angle_amplitude_deg = camera.NumberOr("angle_amplitude_deg", p.angle_amplitude_deg, 0.0, 90.0);
   p.period = camera.NumberOr("period", p.period, 0.1, 1e6);
   p.start_time = camera.NumberOr("start_time", p.start_time, 0.0, 1e10);
   p.T_anchor = spec.T_anchor;
+  if (p.motion != ProceduralMotion::kCircle) {
+    for (const char* key : kCircleKeys) {
+      if (camera.Has(key)) camera.Child(key).Fail("only for the circle camera (\"procedural\": \"circle\")");
+    }
+    return spec;
+  }
+  p.radius = camera.NumberOr("radius", p.radius, 0.05, 10.0);
+  p.wobble = camera.NumberOr("wobble", p.wobble, 0.0, 0.5);
+  p.wobble_angle_deg = camera.NumberOr("wobble_angle_deg", p.wobble_angle_deg, 0.0, 10.0);
+  if (camera.Has("wobble_seed")) p.wobble_seed = camera.Child("wobble_seed").Unsigned();
+  // The circle's length: `frames`, else `turns` turns of `period` seconds each.
+  if (camera.Has("turns") && camera.Has("frames")) camera.Child("turns").Fail("give either 'turns' or 'frames'");
+  if (!camera.Has("frames")) {
+    const double turns = camera.NumberOr("turns", kDefaultCircleTurns, 0.01, 1000.0);
+    const double frames = std::max(1.0, std::round(turns * p.period * p.fps));
+    if (frames > kMaxCameraFrames) {
+      camera.Child(camera.Has("turns") ? "turns" : "period")
+          .Fail(fmt::format("{} turns of {} s at {} fps are {} frames, more than {}", turns, p.period, p.fps, frames,
+                            kMaxCameraFrames));
+    }
+    p.frames = static_cast<std::size_t>(frames);
+  }
   return spec;
 }
 
@@ -386,6 +418,21 @@ SensorNoiseOptions ParseSensorNoise(const Node& node) {
   return o;
 }
 
+std::vector<CoveredStretch> ParseCovered(const Node& node) {
+  std::vector<CoveredStretch> stretches;
+  for (std::size_t i = 0, n = node.ArraySize(); i < n; ++i) {
+    const Node item = node.Element(i);
+    item.AllowOnly({"from", "for"});
+    const CoveredStretch stretch{item.Child("from").Number(0.0, 1e6), item.Child("for").Number(0.001, 1e5)};
+    if (!stretches.empty() && stretch.from < stretches.back().end()) {
+      item.Child("from").Fail(fmt::format("must not be before the end of covered[{}] at {} s", i - 1,
+                                          stretches.back().end()));
+    }
+    stretches.push_back(stretch);
+  }
+  return stretches;
+}
+
 TextureOptions ParseTextures(const Node& node) {
   node.AllowOnly({"seed", "size", "variants"});
   TextureOptions o;
@@ -441,7 +488,7 @@ Scenario ParseScenario(std::string_view text, const std::string& source) {
     throw core::InputError::AtLine(source, line, "not valid JSON: " + std::string(e.what()));
   }
   const Node root(scenario.document, "", scenario.source);
-  root.AllowOnly({"name", "description", "seed", "frames", "camera", "office", "people", "detector_noise",
+  root.AllowOnly({"name", "description", "seed", "frames", "camera", "covered", "office", "people", "detector_noise",
                   "sensor_noise", "textures"});
   scenario.name = root.Child("name").String();
   if (scenario.name.empty()) root.Child("name").Fail("must not be empty");
@@ -449,6 +496,7 @@ Scenario ParseScenario(std::string_view text, const std::string& source) {
   if (root.Has("seed")) scenario.seed = root.Child("seed").Unsigned();
   if (root.Has("frames")) scenario.max_frames = static_cast<std::size_t>(root.Child("frames").Int(0, 10000000));
   scenario.camera = ParseCamera(root.Child("camera"));
+  if (root.Has("covered")) scenario.covered = ParseCovered(root.Child("covered"));
   scenario.office = root.Has("office") ? ParseOffice(root.Child("office"), scenario.source) : DefaultOfficeLayout();
   if (root.Has("people")) {
     const Node people = root.Child("people");
@@ -464,6 +512,10 @@ Scenario ParseScenario(std::string_view text, const std::string& source) {
   if (root.Has("sensor_noise")) scenario.sensor_noise = ParseSensorNoise(root.Child("sensor_noise"));
   if (root.Has("textures")) scenario.textures = ParseTextures(root.Child("textures"));
   return scenario;
+}
+
+bool Scenario::LensCoveredAt(double time) const {
+  return std::any_of(covered.begin(), covered.end(), [time](const CoveredStretch& s) { return s.Covers(time); });
 }
 
 std::vector<std::string> BuiltinScenarioNames() {

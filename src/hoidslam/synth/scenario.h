@@ -67,6 +67,16 @@ struct CameraSpec {
   core::Pose T_anchor = core::Pose::Identity();  // the first camera pose in the room
 };
 
+// A stretch of time in which the lens is covered (a hand, a cap) while the camera moves on: the colour image is
+// dark but for sensor noise, and there is no depth.
+struct CoveredStretch {
+  double from = 0.0;      // seconds from the first frame
+  double duration = 0.0;  // seconds, > 0
+
+  double end() const { return from + duration; }
+  bool Covers(double time) const { return time >= from && time < end(); }
+};
+
 struct Scenario {
   std::string source;  // where it came from, for messages: a file path or "builtin:<name>"
   std::string name;
@@ -74,12 +84,16 @@ struct Scenario {
   std::uint64_t seed = 1;
   std::size_t max_frames = 0;  // 0 = every frame of the camera path
   CameraSpec camera;
+  std::vector<CoveredStretch> covered;  // in time order, none overlapping
   OfficeLayout office;
   std::vector<PersonSpec> people;
   DetectorNoiseOptions detector_noise;
   SensorNoiseOptions sensor_noise;
   TextureOptions textures;  // photo_folder stays empty (a command-line choice)
   nlohmann::json document;  // the parsed file, to copy next to the output
+
+  // True when `time` (seconds from the first frame) lies in a covered stretch.
+  bool LensCoveredAt(double time) const;
 };
 
 // Parses a scenario. `source` names it in messages. Throws InputError "<source>: <key>: <what>" naming the

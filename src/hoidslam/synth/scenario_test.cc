@@ -4,9 +4,15 @@
 #include <gtest/gtest.h>
 
 
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "hoidslam/core/error.h"
 #include "support/temp_dir.h"
@@ -52,8 +58,9 @@ TEST(Scenario, EveryShippedScenarioParsesAndControlsMatchTheirCamera) {
       EXPECT_TRUE(scenario.people.empty());
       const Scenario full = LoadScenario(name.substr(0, name.size() - 7));
       EXPECT_FALSE(full.people.empty());
-      EXPECT_EQ(full.camera.tum, scenario.camera.tum);
-      EXPECT_TRUE(full.camera.T_anchor.isApprox(scenario.camera.T_anchor));
+      EXPECT_EQ(full.document.at("camera"), scenario.document.at("camera"));
+      EXPECT_EQ(full.document.value("covered", nlohmann::json()), scenario.document.value("covered", nlohmann::json()));
+      EXPECT_EQ(full.document.value("office", nlohmann::json()), scenario.document.value("office", nlohmann::json()));
     }
   }
 }
@@ -139,6 +146,80 @@ TEST(Scenario, MissingAndInconsistentValuesAreNamed) {
               HasSubstr("camera: give exactly one of 'tum' and 'procedural'"));
   EXPECT_THAT(ParseError(R"({"name": "t", "camera": {"procedural": "zigzag", "position": [4, 1, 1.4]}})"),
               HasSubstr("camera.procedural"));
+}
+
+// A valid scenario whose camera has `camera_keys` besides the anchor, and `extra` top-level members.
+std::string WithCamera(const std::string& camera_keys, const std::string& extra = "") {
+  return R"({"name": "t", "camera": {)" + camera_keys + R"(, "position": [4, 2.5, 1.4], "yaw_deg": 90},)" + extra +
+         R"( "people": []})";
+}
+
+TEST(Scenario, ParsesTheCircleCameraWithItsDefaults) {
+  const Scenario defaults = ParseScenario(WithCamera(R"("procedural": "circle")"), "x.json");
+  const ProceduralPathOptions& d = defaults.camera.procedural;
+  EXPECT_EQ(d.motion, ProceduralMotion::kCircle);
+  EXPECT_DOUBLE_EQ(d.radius, 0.5);
+  EXPECT_DOUBLE_EQ(d.wobble, 0.03);
+  EXPECT_DOUBLE_EQ(d.wobble_angle_deg, 2.0);
+  EXPECT_EQ(d.wobble_seed, 1U);
+  EXPECT_EQ(d.frames, 720U);  // 2 turns of 12 s at 30 Hz
+  const Scenario s = ParseScenario(WithCamera(R"("procedural": "circle", "radius": 0.6, "turns": 2.25, "period": 56,
+                                                 "wobble": 0.02, "wobble_angle_deg": 1.5, "wobble_seed": 9)"),
+                                   "x.json");
+  const ProceduralPathOptions& p = s.camera.procedural;
+  EXPECT_DOUBLE_EQ(p.radius, 0.6);
+  EXPECT_DOUBLE_EQ(p.wobble, 0.02);
+  EXPECT_DOUBLE_EQ(p.wobble_angle_deg, 1.5);
+  EXPECT_EQ(p.wobble_seed, 9U);
+  EXPECT_EQ(p.frames, 3780U);  // 2.25 turns of 56 s at 30 Hz
+  EXPECT_EQ(ParseScenario(WithCamera(R"("procedural": "circle", "frames": 10)"), "x.json").camera.procedural.frames,
+            10U);
+}
+
+TEST(Scenario, CircleKeysOutOfRangeOrOutOfPlaceAreNamed) {
+  const std::pair<const char*, const char*> cases[] = {
+      {R"("procedural": "circle", "radius": 0)", "camera.radius: 0 is outside [0.05, 10]"},
+      {R"("procedural": "circle", "turns": -1)", "camera.turns: -1 is outside [0.01, 1000]"},
+      {R"("procedural": "circle", "wobble": 0.8)", "camera.wobble: 0.8 is outside [0, 0.5]"},
+      {R"("procedural": "circle", "wobble_angle_deg": 45)", "camera.wobble_angle_deg: 45 is outside [0, 10]"},
+      {R"("procedural": "circle", "wobble_seed": -2)", "camera.wobble_seed: must be a whole number >= 0"},
+      {R"("procedural": "circle", "turns": 2, "frames": 100)", "camera.turns: give either 'turns' or 'frames'"},
+      {R"("procedural": "circle", "turns": 1000, "period": 1000)",
+       "camera.turns: 1000 turns of 1000 s at 30 fps are 30000000 frames, more than 1000000"},
+      {R"("procedural": "circle", "wobbel": 0.01)", "camera.wobbel: unknown key"},
+      {R"("procedural": "xyz", "radius": 0.5)", "camera.radius: only for the circle camera"},
+      {R"("tum": "fr3_walking_xyz", "turns": 2)", "camera.turns: only for a procedural circle camera"},
+  };
+  for (const auto& [camera_keys, message] : cases) {
+    EXPECT_THAT(ParseError(WithCamera(camera_keys)), HasSubstr(std::string("x.json: ") + message));
+  }
+}
+
+TEST(Scenario, CoveredStretchesAreParsedInTimeOrderAndCheckedByKey) {
+  const Scenario s = ParseScenario(
+      WithCamera(R"("procedural": "circle")", R"( "covered": [{"from": 2, "for": 0.5}, {"from": 4, "for": 1}],)"),
+      "x.json");
+  ASSERT_EQ(s.covered.size(), 2U);
+  EXPECT_DOUBLE_EQ(s.covered[1].from, 4.0);
+  EXPECT_DOUBLE_EQ(s.covered[1].duration, 1.0);
+  EXPECT_FALSE(s.LensCoveredAt(1.99));
+  EXPECT_TRUE(s.LensCoveredAt(2.0));
+  EXPECT_TRUE(s.LensCoveredAt(2.49));
+  EXPECT_FALSE(s.LensCoveredAt(2.5));  // the first frame at the stretch's end is uncovered
+  EXPECT_TRUE(s.LensCoveredAt(4.5));
+  EXPECT_FALSE(s.LensCoveredAt(5.0));
+  EXPECT_TRUE(ParseScenario(WithCamera(R"("procedural": "circle")"), "x.json").covered.empty());
+
+  const auto covered = [](const std::string& list) {
+    return ParseError(WithCamera(R"("procedural": "circle")", R"( "covered": )" + list + ","));
+  };
+  EXPECT_THAT(covered(R"([{"from": 2, "for": 2}, {"from": 3, "for": 1}])"),
+              HasSubstr("x.json: covered[1].from: must not be before the end of covered[0] at 4 s"));
+  EXPECT_THAT(covered(R"([{"from": 2, "for": 0}])"), HasSubstr("x.json: covered[0].for: 0 is outside [0.001, 100000]"));
+  EXPECT_THAT(covered(R"([{"from": -1, "for": 2}])"), HasSubstr("x.json: covered[0].from: -1 is outside [0, 1000000]"));
+  EXPECT_THAT(covered(R"([{"from": 1}])"), HasSubstr("x.json: covered[0]: missing key 'for'"));
+  EXPECT_THAT(covered(R"([{"from": 1, "for": 2, "dark": true}])"), HasSubstr("x.json: covered[0].dark: unknown key"));
+  EXPECT_THAT(covered(R"({"from": 1, "for": 2})"), HasSubstr("x.json: covered: must be an array"));
 }
 
 TEST(Scenario, CustomOfficeLayoutsAreChecked) {

@@ -55,9 +55,21 @@ void WritePng(const fs::path& path, const cv::Mat& image, const std::vector<int>
   }
 }
 
+// Grey level of a covered lens: a little light leaks in, so the sensor noise is not all clipped away at black.
+constexpr double kCoveredLensLevel = 4.0;
+
+// What a covered lens sees: a dark image, no depth, no instance.
+RenderOutput CoveredLensImage(const core::CameraIntrinsics& camera) {
+  const cv::Size size(camera.width, camera.height);
+  return {cv::Mat(size, CV_8UC3, cv::Scalar::all(kCoveredLensLevel)), cv::Mat::zeros(size, CV_32F),
+          cv::Mat(size, CV_32S, cv::Scalar(kNoInstance))};
+}
+
+double RoundToMicroseconds(double seconds) { return std::round(seconds * 1e6) / 1e6; }
+
 json EventJson(const WorldEvent& event, double time_origin) {
-  json line = {
-      {"time", std::round((time_origin + event.time) * 1e6) / 1e6}, {"person", event.person}, {"action", event.action}};
+  json line = {{"time", RoundToMicroseconds(time_origin + event.time)}, {"person", event.person},
+               {"action", event.action}};
   if (!event.object.empty()) line["object"] = event.object;
   auto point = [](const Eigen::Vector3d& p) {
     return json::array({std::round(p.x() * 1e4) / 1e4, std::round(p.y() * 1e4) / 1e4, std::round(p.z() * 1e4) / 1e4});
@@ -65,6 +77,32 @@ json EventJson(const WorldEvent& event, double time_origin) {
   if (event.from) line["from"] = point(*event.from);
   if (event.to) line["to"] = point(*event.to);
   return line;
+}
+
+// The lines of the event log, in time order: what the people do, and when the lens is covered and uncovered, with
+// the index of the first frame written covered and of the first written uncovered again (left out when the
+// sequence ends before it).
+std::string EventLog(const World& world, const Scenario& scenario, const std::vector<CameraFrame>& frames) {
+  const double time_origin = frames.front().timestamp;
+  std::vector<std::pair<double, json>> lines;
+  for (const WorldEvent& event : world.events()) lines.emplace_back(event.time, EventJson(event, time_origin));
+  auto lens_event = [&](double time, const char* action, const std::function<bool(double)>& frame_matches) {
+    json line = {{"time", RoundToMicroseconds(time_origin + time)}, {"action", action}};
+    const auto first = std::find_if(frames.begin(), frames.end(), [&](const CameraFrame& frame) {
+      return frame_matches(frame.timestamp - time_origin);
+    });
+    if (first != frames.end()) line["frame"] = first - frames.begin();
+    lines.emplace_back(time, std::move(line));
+  };
+  for (const CoveredStretch& stretch : scenario.covered) {
+    lens_event(stretch.from, "cover_lens", [&](double t) { return stretch.Covers(t); });
+    lens_event(stretch.end(), "uncover_lens",
+               [&](double t) { return t >= stretch.end() && !scenario.LensCoveredAt(t); });
+  }
+  std::stable_sort(lines.begin(), lines.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::string log;
+  for (const auto& [time, line] : lines) log += line.dump() + "\n";
+  return log;
 }
 
 // The scenario document with the values actually used (seed, frame limit, detector noise).
@@ -251,7 +289,9 @@ SynthResult WriteSequence(const Scenario& scenario, const SynthOptions& options)
         const CameraFrame& frame = frames[i];
         SceneSnapshot snapshot = world.Snapshot(frame.timestamp - time_origin);
         snapshot.timestamp = frame.timestamp;
-        const RenderOutput rendered = renderer.Render(snapshot, frame.T_wc);
+        const RenderOutput rendered = scenario.LensCoveredAt(frame.timestamp - time_origin)
+                                          ? CoveredLensImage(camera)
+                                          : renderer.Render(snapshot, frame.T_wc);
         FrameResult& result = results[i];
         result.truth = GroundTruthBoxes(rendered.instance, snapshot, options.min_box_pixels);
         result.detections =
@@ -301,9 +341,7 @@ SynthResult WriteSequence(const Scenario& scenario, const SynthOptions& options)
     WriteDetections(folder / "detections_truth.jsonl", sequence, DetectorNoiseOptions{}.Describe(), frames, results,
                     true);
   }
-  std::string events;
-  for (const WorldEvent& event : world.events()) events += EventJson(event, time_origin).dump() + "\n";
-  WriteText(folder / "events.jsonl", events);
+  WriteText(folder / "events.jsonl", EventLog(world, scenario, frames));
   WriteText(folder / "scenario.json", RenderedScenario(scenario).dump(2) + "\n");
 
   output.Commit();

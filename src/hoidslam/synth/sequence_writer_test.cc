@@ -14,6 +14,7 @@
 #include <memory>
 #include <stdexcept>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <string>
 #include <vector>
 
@@ -422,6 +423,89 @@ TEST(SequenceWriter, AFailedRunLeavesNothingBehind) {
     EXPECT_THAT(e.what(), HasSubstr("fr3_no_such_sequence.txt"));
   }
   EXPECT_TRUE(fs::is_empty(temp.path()));
+}
+
+std::vector<nlohmann::json> ReadJsonLines(const fs::path& file) {
+  std::vector<nlohmann::json> lines;
+  std::ifstream in(file);
+  for (std::string line; std::getline(in, line);) lines.push_back(nlohmann::json::parse(line));
+  return lines;
+}
+
+// The event log's line of the lens `action` ("cover_lens", "uncover_lens"); fails the test when there is none.
+nlohmann::json LensEvent(const fs::path& sequence, const std::string& action) {
+  for (const nlohmann::json& line : ReadJsonLines(sequence / "events.jsonl")) {
+    if (line.at("action") == action) return line;
+  }
+  ADD_FAILURE() << "no " << action << " in " << sequence;
+  return nlohmann::json::object();
+}
+
+// What a frame of a written sequence shows: its mean grey level and share of pixels with depth.
+struct FrameLook {
+  double mean_level = 0.0;
+  double level_deviation = 0.0;
+  double depth_share = 0.0;
+};
+
+FrameLook Look(const io::RgbdSequence& sequence, std::size_t i) {
+  const core::RgbdFrame frame = sequence.LoadFrame(i);
+  cv::Mat grey;
+  cv::cvtColor(frame.rgb, grey, cv::COLOR_BGR2GRAY);
+  cv::Scalar mean;
+  cv::Scalar deviation;
+  cv::meanStdDev(grey, mean, deviation);
+  return {mean[0], deviation[0], static_cast<double>(cv::countNonZero(frame.depth)) / frame.depth.total()};
+}
+
+TEST(SequenceWriter, ACoveredLensGivesDarkFramesWithoutDepthWhileTheGroundTruthGoesOn) {
+  testing::TempDir temp;
+  const Scenario scenario = ParseScenario(R"({"name": "covered", "seed": 7,
+    "camera": {"procedural": "xyz", "fps": 10, "frames": 8, "position": [4.0, 1.2, 1.45], "look_at": [4.0, 4.5, 0.85]},
+    "covered": [{"from": 0.25, "for": 0.3}],
+    "people": )" + std::string(fixtures::kWalkThenStop) + "}",
+                                          "covered.json");
+  WriteSequence(scenario, Options(temp / "seq"));
+  const io::RgbdSequence sequence = io::RgbdSequence::OpenTum(temp / "seq");
+  ASSERT_EQ(sequence.size(), 8U);
+  const io::DetectionsFile detections = io::DetectionsFile::Read(temp / "seq" / "detections.jsonl");
+  for (std::size_t i = 0; i < sequence.size(); ++i) {
+    SCOPED_TRACE(i);
+    const FrameLook look = Look(sequence, i);
+    const std::string image = fs::path(sequence.entry(i).rgb_path).filename().string();
+    const cv::Mat moving = cv::imread((temp / "seq" / "mask" / image).string(), cv::IMREAD_UNCHANGED);
+    const cv::Mat people = cv::imread((temp / "seq" / "people" / image).string(), cv::IMREAD_UNCHANGED);
+    const io::FrameDetections* boxes = detections.Find(sequence.Timestamps()[i]);
+    ASSERT_NE(boxes, nullptr);
+    if (i >= 3 && i < 6) {  // 0.3 to 0.5 s: covered
+      EXPECT_LT(look.mean_level, 10.0);
+      EXPECT_GT(look.level_deviation, 0.2);  // sensor noise
+      EXPECT_EQ(look.depth_share, 0.0);
+      EXPECT_EQ(cv::countNonZero(moving), 0);
+      EXPECT_EQ(cv::countNonZero(people), 0);
+      EXPECT_TRUE(boxes->detections.empty());
+    } else {
+      EXPECT_GT(look.mean_level, 50.0);
+      EXPECT_GT(look.depth_share, 0.5);
+      EXPECT_GT(cv::countNonZero(people), 0);
+      EXPECT_FALSE(boxes->detections.empty());
+    }
+  }
+  // The ground truth goes on under the cover: the camera's own pose at every frame.
+  const core::Trajectory groundtruth = io::ReadTumTrajectory(temp / "seq" / "groundtruth.txt");
+  const CameraPath path = ScenarioCameraPath(scenario, {});
+  ASSERT_EQ(groundtruth.size(), path.size());
+  for (std::size_t i = 0; i < path.size(); ++i) EXPECT_TRUE(groundtruth[i].T_wc.isApprox(path.frames()[i].T_wc, 1e-6));
+  EXPECT_GT((groundtruth[6].T_wc.translation() - groundtruth[2].T_wc.translation()).norm(), 0.01);
+  // The event log says when the lens is covered and uncovered, and at which frames.
+  const double start = sequence.Timestamps().front();
+  const nlohmann::json cover = LensEvent(temp / "seq", "cover_lens");
+  EXPECT_NEAR(cover.value("time", 0.0), start + 0.25, 1e-6);
+  EXPECT_EQ(cover.value("frame", -1), 3);
+  const nlohmann::json uncover = LensEvent(temp / "seq", "uncover_lens");
+  EXPECT_NEAR(uncover.value("time", 0.0), start + 0.55, 1e-6);
+  EXPECT_EQ(uncover.value("frame", -1), 6);
+  EXPECT_FALSE(uncover.contains("person"));
 }
 
 TEST(SequenceWriter, ShippedTumScenarioFollowsTheRealCameraPath) {
