@@ -39,13 +39,15 @@ std::string Valid(const std::string& people = "[]", const std::string& extra = "
          R"( "people": )" + people + "}";
 }
 
-TEST(Scenario, ShipsTheTumLikeScenariosWithTheirControls) {
+TEST(Scenario, ShipsTheTumLikeAndTheLoopScenariosWithTheirControls) {
   const std::vector<std::string> names = BuiltinScenarioNames();
-  for (const std::string base :
-       {"walking_static", "walking_xyz", "walking_halfsphere", "walking_rpy", "sitting_static", "carry", "crowd"}) {
+  for (const std::string base : {"walking_static", "walking_xyz", "walking_halfsphere", "walking_rpy", "sitting_static",
+                                 "carry", "crowd", "loop", "kidnap"}) {
     EXPECT_THAT(names, ::testing::Contains(base));
     EXPECT_THAT(names, ::testing::Contains(base + "_static"));
   }
+  EXPECT_THAT(names, ::testing::Contains("revisit_a"));
+  EXPECT_THAT(names, ::testing::Contains("revisit_b"));
 }
 
 TEST(Scenario, EveryShippedScenarioParsesAndControlsMatchTheirCamera) {
@@ -220,6 +222,84 @@ TEST(Scenario, CoveredStretchesAreParsedInTimeOrderAndCheckedByKey) {
   EXPECT_THAT(covered(R"([{"from": 1}])"), HasSubstr("x.json: covered[0]: missing key 'for'"));
   EXPECT_THAT(covered(R"([{"from": 1, "for": 2, "dark": true}])"), HasSubstr("x.json: covered[0].dark: unknown key"));
   EXPECT_THAT(covered(R"({"from": 1, "for": 2})"), HasSubstr("x.json: covered: must be an array"));
+}
+
+// The camera path of a shipped scenario with a procedural camera.
+std::vector<CameraFrame> ShippedPath(const std::string& name) {
+  const Scenario scenario = LoadScenario(name);
+  EXPECT_TRUE(scenario.camera.tum.empty()) << name;
+  return CameraPath::Procedural(scenario.camera.procedural).frames();
+}
+
+double Distance(const CameraFrame& a, const CameraFrame& b) {
+  return (a.T_wc.translation() - b.T_wc.translation()).norm();
+}
+
+double Angle(const CameraFrame& a, const CameraFrame& b) {
+  return Eigen::AngleAxisd(a.T_wc.linear().transpose() * b.T_wc.linear()).angle();
+}
+
+// True when some frame before `last` saw the place from nearly the pose of `frame`.
+bool SeenBefore(const std::vector<CameraFrame>& path, std::size_t last, const CameraFrame& frame) {
+  return std::any_of(path.begin(), path.begin() + static_cast<std::ptrdiff_t>(last), [&](const CameraFrame& f) {
+    return Distance(f, frame) < 0.15 && Angle(f, frame) < 5.0 * std::numbers::pi / 180.0;
+  });
+}
+
+TEST(Scenario, LoopGoesRoundTwiceInTwoMinutesWithPeopleAtWork) {
+  const Scenario loop = LoadScenario("loop");
+  const std::vector<CameraFrame> path = ShippedPath("loop");
+  EXPECT_GE(path.size(), 3600U);  // at least 2 minutes at 30 Hz
+  EXPECT_NEAR(path.back().timestamp - path.front().timestamp, 126.0, 0.1);
+  const double seconds_a_turn = loop.camera.procedural.period;
+  EXPECT_GE((path.back().timestamp - path.front().timestamp) / seconds_a_turn, 2.0);
+  EXPECT_GE(loop.people.size(), 3U);
+  // Every pose of the second turn is close to, but not the same as, the pose a turn earlier: the shake moves
+  // each of them at most `wobble` along each axis.
+  const auto frames_a_turn = static_cast<std::size_t>(std::lround(seconds_a_turn * loop.camera.procedural.fps));
+  for (std::size_t i = frames_a_turn; i < path.size(); i += 30) {
+    EXPECT_LE(Distance(path[i], path[i - frames_a_turn]), 2.0 * std::sqrt(3.0) * loop.camera.procedural.wobble);
+    EXPECT_GT(Distance(path[i], path[i - frames_a_turn]) + Angle(path[i], path[i - frames_a_turn]), 1e-4);
+  }
+}
+
+TEST(Scenario, KidnapMovesTheCoveredCameraOnAndUncoversItWhereItHasBeen) {
+  const Scenario kidnap = LoadScenario("kidnap");
+  const std::vector<CameraFrame> path = ShippedPath("kidnap");
+  ASSERT_EQ(kidnap.covered.size(), 1U);
+  EXPECT_DOUBLE_EQ(kidnap.covered[0].duration, 2.0);
+  const auto at = [&](double time) {
+    return static_cast<std::size_t>(std::lround(time * kidnap.camera.procedural.fps));
+  };
+  const CameraFrame& covered = path[at(kidnap.covered[0].from)];
+  const CameraFrame& uncovered = path[at(kidnap.covered[0].end())];
+  EXPECT_GE(Distance(covered, uncovered), 0.6);
+  // Turned further than the image is wide (62.7 degrees): nothing in view at the uncovering was in view before.
+  EXPECT_GE(Angle(covered, uncovered), 65.0 * std::numbers::pi / 180.0);
+  EXPECT_TRUE(SeenBefore(path, at(kidnap.covered[0].from), uncovered));
+  EXPECT_GT(path.size(), at(kidnap.covered[0].end()) + 300);  // 10 s and more to relocalise and go on
+}
+
+TEST(Scenario, RevisitPassesAreTwoPathsOverTheSamePlacesAtOtherTimes) {
+  const Scenario first = LoadScenario("revisit_a");
+  const Scenario second = LoadScenario("revisit_b");
+  EXPECT_EQ(first.document.at("office"), second.document.at("office"));
+  EXPECT_FALSE(first.people.empty());
+  EXPECT_FALSE(second.people.empty());
+  const std::vector<CameraFrame> a = ShippedPath("revisit_a");
+  const std::vector<CameraFrame> b = ShippedPath("revisit_b");
+  EXPECT_LT(a.back().timestamp, b.front().timestamp);
+  // The second pass starts where the first has looked, and never follows the first path closely.
+  const auto nearest = [&](const CameraFrame& frame) {
+    return std::min_element(a.begin(), a.end(), [&](const CameraFrame& x, const CameraFrame& y) {
+      return Distance(x, frame) + Angle(x, frame) < Distance(y, frame) + Angle(y, frame);
+    });
+  };
+  EXPECT_LT(Angle(*nearest(b.front()), b.front()), 5.0 * std::numbers::pi / 180.0);
+  EXPECT_LT(Distance(*nearest(b.front()), b.front()), 0.4);
+  std::size_t far_from_the_first_path = 0;
+  for (const CameraFrame& frame : b) far_from_the_first_path += Distance(*nearest(frame), frame) > 0.1 ? 1 : 0;
+  EXPECT_GT(far_from_the_first_path, b.size() / 2);
 }
 
 TEST(Scenario, CustomOfficeLayoutsAreChecked) {

@@ -508,6 +508,80 @@ TEST(SequenceWriter, ACoveredLensGivesDarkFramesWithoutDepthWhileTheGroundTruthG
   EXPECT_FALSE(uncover.contains("person"));
 }
 
+TEST(SequenceWriter, ShippedLoopKidnapAndRevisitScenariosRenderTheOfficeInTheirFirstFrames) {
+  testing::TempDir temp;
+  for (const std::string name : {"loop", "loop_static", "kidnap", "kidnap_static", "revisit_a", "revisit_b"}) {
+    SCOPED_TRACE(name);
+    Scenario scenario = LoadScenario(name);
+    scenario.max_frames = 2;
+    WriteSequence(scenario, Options(temp / name));
+    const io::RgbdSequence sequence = io::RgbdSequence::OpenTum(temp / name);
+    ASSERT_EQ(sequence.size(), 2U);
+    const FrameLook look = Look(sequence, 0);
+    EXPECT_GT(look.mean_level, 50.0);
+    EXPECT_GT(look.depth_share, 0.8);
+    io::DetectionsFile::Read(temp / name / "detections.jsonl").CheckCovers(sequence.Timestamps(), name);
+  }
+}
+
+TEST(SequenceWriter, ShippedKidnapNamesTheUncoveringFrame) {
+  testing::TempDir temp;
+  SynthOptions options = Options(temp / "kidnap");
+  options.frame_step = 60;  // a frame every 2 s: the lens is covered at 20 s, uncovered at 22 s
+  WriteSequence(LoadScenario("kidnap"), options);
+  const io::RgbdSequence sequence = io::RgbdSequence::OpenTum(temp / "kidnap");
+  const nlohmann::json uncover = LensEvent(temp / "kidnap", "uncover_lens");
+  const int frame = uncover.value("frame", -1);
+  ASSERT_EQ(frame, 11);
+  EXPECT_NEAR(sequence.Timestamps()[11] - sequence.Timestamps()[0], 22.0, 1e-6);
+  EXPECT_EQ(Look(sequence, 10).depth_share, 0.0);
+  EXPECT_GT(Look(sequence, 11).depth_share, 0.8);
+}
+
+// A map made on one pass is evaluated on the other, so both write their ground truth in the room frame: a point
+// that revisit_a's ground truth and depth put in the room is where revisit_b's ground truth and depth see it.
+TEST(SequenceWriter, RevisitPassesShareTheRoomFrame) {
+  testing::TempDir temp;
+  // The passes have other people at other places; without them, the views differ only by the camera poses.
+  Scenario first = LoadScenario("revisit_a");
+  first.people.clear();
+  first.max_frames = 151;
+  SynthOptions first_options = Options(temp / "a");
+  first_options.frame_step = 150;  // frames 0 and 150: 5 s in, where revisit_b starts looking
+  WriteSequence(first, first_options);
+  Scenario second = LoadScenario("revisit_b");
+  second.people.clear();
+  second.max_frames = 1;
+  WriteSequence(second, Options(temp / "b"));
+
+  const io::RgbdSequence a = io::RgbdSequence::OpenTum(temp / "a");
+  const io::RgbdSequence b = io::RgbdSequence::OpenTum(temp / "b");
+  ASSERT_EQ(a.size(), 2U);
+  const core::Pose T_wa = a.groundtruth()[1].T_wc;
+  const core::Pose T_bw = b.groundtruth()[0].T_wc.inverse();
+  const cv::Mat depth_a = a.LoadFrame(1).depth;
+  const cv::Mat depth_b = b.LoadFrame(0).depth;
+  const core::CameraIntrinsics k;
+  constexpr float kNear = 2.5F;  // metres: nearer, the depth noise is below 1 cm
+  std::vector<double> differences;
+  for (int v = 0; v < depth_a.rows; v += 4) {
+    for (int u = 0; u < depth_a.cols; u += 4) {
+      const float z = depth_a.at<float>(v, u);
+      if (z <= 0.0F || z > kNear) continue;
+      const Eigen::Vector3d in_b = T_bw * (T_wa * k.Unproject(u, v, z));
+      const Eigen::Vector2d pixel = k.Project(in_b);
+      const int ub = static_cast<int>(std::lround(pixel.x()));
+      const int vb = static_cast<int>(std::lround(pixel.y()));
+      if (in_b.z() <= 0.0 || ub < 0 || vb < 0 || ub >= depth_b.cols || vb >= depth_b.rows) continue;
+      if (depth_b.at<float>(vb, ub) <= 0.0F) continue;
+      differences.push_back(std::abs(depth_b.at<float>(vb, ub) - in_b.z()));
+    }
+  }
+  ASSERT_GT(differences.size(), 1000U);
+  std::nth_element(differences.begin(), differences.begin() + differences.size() / 2, differences.end());
+  EXPECT_LT(differences[differences.size() / 2], 0.01);  // depth noise, rounding to whole pixels, occlusions
+}
+
 TEST(SequenceWriter, ShippedTumScenarioFollowsTheRealCameraPath) {
   HOIDSLAM_SHARED_PATH_OR_SKIP(groundtruth, "data/tum/groundtruth/fr3_walking_xyz.txt");
   testing::TempDir temp;
