@@ -201,6 +201,17 @@ TEST(Cli, SynthNamesTheBadScenarioKeyAndLeavesNoFolder) {
   EXPECT_FALSE(fs::exists(scratch / "seq"));
 }
 
+TEST(Cli, SynthHelpAndListNameTheShippedScenarios) {
+  const testing::TempDir scratch;
+  const RunResult help = RunHoidslam(scratch, {"synth", "--help"});
+  const RunResult list = RunHoidslam(scratch, {"synth", "--list-scenarios"});
+  ASSERT_EQ(list.exit_status, 0) << list.err;
+  for (const std::string name : {"loop", "loop_static", "kidnap", "kidnap_static", "revisit_a", "revisit_b"}) {
+    EXPECT_THAT(list.out, HasSubstr("\n" + name + "\n"));
+    EXPECT_THAT(help.out, ::testing::ContainsRegex(" " + name + "[,)]"));
+  }
+}
+
 TEST(Cli, SynthSequenceIsReadByEval) {
   const testing::TempDir scratch;
   const fs::path sequence = scratch / "carry";

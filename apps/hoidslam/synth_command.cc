@@ -101,7 +101,9 @@ void AddSynthCommand(CLI::App& app) {
       "synth",
       "Render a synthetic RGB-D sequence of people moving things in an office, in TUM layout, with ground-truth "
       "camera poses, detections, moving-pixel masks and an event log (docs/synthetic-benchmark.md)");
-  command->add_option("--scenario", args->scenario, "A shipped scenario name (see --list-scenarios) or a .json file");
+  command->add_option("--scenario", args->scenario,
+                      fmt::format("A shipped scenario ({}) or a .json file",
+                                  fmt::join(synth::BuiltinScenarioNames(), ", ")));
   command->add_option("--out", options.out, "Output sequence folder (created complete or not at all)");
   command->add_option("--seed", args->seed, "Override the scenario's seed (sensor and detector noise)");
   command->add_option("--frames", args->frames, "Render only the first N frames (0 = all)");
