@@ -170,7 +170,7 @@ void RunRun(const RunArgs& args) {
       evaluation->estimate_path = out.path() / "trajectory.txt";  // where it will be once the folder is complete
       json["evaluation"] = eval::EvaluationToJson(*evaluation);
       // Each pose relocalisation found, judged against the ground truth: a wrong one is worse than a lost frame.
-      relocalizations = eval::CheckPoses(io::ReadTumTrajectory(groundtruth),
+      relocalizations = eval::CheckPoses(sequence.groundtruth(),
                                          io::ReadTumTrajectory(out.temporary() / "trajectory.txt"),
                                          evaluation->ate.alignment, summary.relocalized,
                                          evaluation->options.ate.association, relocalization_limits);

@@ -21,4 +21,7 @@ using Trajectory = std::vector<StampedPose>;
 // Builds a pose from a translation and a (not necessarily normalised) quaternion.
 Pose PoseFromTranslationQuaternion(const Eigen::Vector3d& t, const Eigen::Quaterniond& q);
 
+// The angle of a rotation, in degrees (in [0, 180]).
+double RotationAngleDegrees(const Eigen::Matrix3d& rotation);
+
 }  // namespace hoidslam::core

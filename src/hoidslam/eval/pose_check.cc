@@ -2,9 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 
-#include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
 namespace hoidslam::eval {
@@ -46,7 +44,7 @@ PoseCheck CheckPoses(const core::Trajectory& groundtruth, const core::Trajectory
     checked.timestamp = pose.timestamp;
     checked.position_error = (alignment.Apply(pose.T_wc.translation()) - truth.T_wc.translation()).norm();
     const Eigen::Matrix3d difference = truth.T_wc.linear().transpose() * alignment.rotation * pose.T_wc.linear();
-    checked.rotation_error_deg = Eigen::AngleAxisd(difference).angle() * 180.0 / std::numbers::pi;
+    checked.rotation_error_deg = core::RotationAngleDegrees(difference);
     checked.wrong = checked.position_error > options.max_position_error ||
                     checked.rotation_error_deg > options.max_rotation_error_deg;
     check.poses.push_back(checked);

@@ -1,7 +1,6 @@
 #include "hoidslam/eval/rpe.h"
 
 #include <cmath>
-#include <numbers>
 
 #include <Eigen/Geometry>
 #include <fmt/format.h>
@@ -58,10 +57,8 @@ RpeResult ComputeRpe(const core::Trajectory& groundtruth, const core::Trajectory
     const core::Pose est_motion = est[i].T_wc.inverse() * est[j].T_wc;
     const core::Pose gt_motion = gt[g0].T_wc.inverse() * gt[g1].T_wc;
     const core::Pose error = est_motion * gt_motion.inverse();
-    // The angle arccos((trace R - 1) / 2), computed through a quaternion so that small angles keep their digits.
-    const double angle = Eigen::AngleAxisd(error.linear()).angle();
     result.pairs.push_back({est_stamps[i], est_stamps[j], gt_stamps[g0], gt_stamps[g1], error.translation().norm(),
-                            angle * 180.0 / std::numbers::pi});
+                            core::RotationAngleDegrees(error.linear())});
     translation_errors.push_back(result.pairs.back().translation_error);
     rotation_errors.push_back(result.pairs.back().rotation_error_deg);
   }

@@ -40,7 +40,7 @@ std::vector<KeyFrame*> KeyFrameDatabase::RelocalizationCandidates(const bow::Bow
   for (const auto& [keyframe, count] : shared) most_shared = std::max(most_shared, count);
   const double min_shared = kMinSharedWordsShare * most_shared;
 
-  std::unordered_map<const KeyFrame*, double> scores;
+  std::unordered_map<KeyFrame*, double> scores;
   for (const auto& [keyframe, count] : shared) {
     if (count >= min_shared) scores[keyframe] = bow::Score(words, keyframe->words().bow);
   }
@@ -50,11 +50,9 @@ std::vector<KeyFrame*> KeyFrameDatabase::RelocalizationCandidates(const bow::Bow
   };
   std::vector<Group> groups;
   double best_credit = 0.0;
-  for (const auto& [keyframe, count] : shared) {
-    const auto own = scores.find(keyframe);
-    if (own == scores.end()) continue;
-    Group group{own->second, keyframe};
-    double best_score = own->second;
+  for (const auto& [keyframe, score] : scores) {
+    Group group{score, keyframe};
+    double best_score = score;
     for (KeyFrame* neighbour : keyframe->BestCovisibles(kGroupNeighbours)) {
       const auto score = scores.find(neighbour);
       if (score == scores.end()) continue;

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <map>
 #include <mutex>
-#include <numbers>
 #include <shared_mutex>
 #include <unordered_set>
 
@@ -567,7 +566,7 @@ bool Tracker::WithinReach(const Frame& frame) const {
   const double gap = frame.timestamp - last.timestamp;
   if (gap > options_.max_motion_gap) return true;  // time enough to have gone anywhere
   const core::Pose motion = frame.T_cw * last.T_cw.inverse();  // its translation: between the camera centres
-  const double turn_deg = Eigen::AngleAxisd(motion.linear()).angle() * 180.0 / std::numbers::pi;
+  const double turn_deg = core::RotationAngleDegrees(motion.linear());
   return motion.translation().norm() <= options_.reach_distance + options_.max_camera_speed * gap &&
          turn_deg <= options_.reach_angle_deg + options_.max_camera_turn_rate_deg * gap;
 }
