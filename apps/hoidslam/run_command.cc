@@ -47,6 +47,7 @@ struct RunArgs {
   std::string out;
   std::size_t frames = 0;
   bool deterministic = false;
+  bool no_loop_closing = false;
   bool realtime = false;
   bool pace = false;
   std::size_t preload_megabytes = pipeline::RealTimeOptions{}.preload_megabytes;
@@ -94,6 +95,20 @@ nlohmann::json DetectionsJson(const pipeline::RunSummary& s) {
           {"boxes_grown", s.boxes_grown}};
 }
 
+// The loops closed: the frames at their two ends, the verification's inliers, and how far the correction moved the
+// keyframe that closed it.
+nlohmann::json LoopsJson(const pipeline::RunSummary& s) {
+  nlohmann::json loops = nlohmann::json::array();
+  for (const slam::LoopClosure& loop : s.loops) {
+    loops.push_back({{"timestamp", loop.timestamp},
+                     {"loop_timestamp", loop.loop_timestamp},
+                     {"inliers", loop.inliers},
+                     {"correction_m", loop.correction_m},
+                     {"correction_deg", loop.correction_deg}});
+  }
+  return loops;
+}
+
 nlohmann::json SummaryJson(const pipeline::RunSummary& s, const std::string& sequence, const std::string& mode,
                            const std::string& detector, const pipeline::RealTimeOptions& realtime) {
   const auto median = [&](double pipeline::StageTimes::*stage) { return MedianMs(s.times, std::mem_fn(stage)); };
@@ -118,6 +133,7 @@ nlohmann::json SummaryJson(const pipeline::RunSummary& s, const std::string& seq
           {"interrupted", s.interrupted},
           {"seconds", s.seconds},
           {"frames_per_second", s.seconds > 0.0 ? static_cast<double>(s.frames) / s.seconds : 0.0},
+          {"loops", LoopsJson(s)},
           {"detections", DetectionsJson(s)},
           {"exclusion_quality", ExclusionQualityJson(s)},
           {"median_ms",
@@ -141,6 +157,7 @@ void RunRun(const RunArgs& args) {
   options.snapshots = args.snapshots;
   options.system.deterministic = args.deterministic;
   options.system.vocabulary = args.vocabulary;
+  options.system.loop_closing.enabled = !args.no_loop_closing;
   options.realtime.enabled = args.realtime;
   options.realtime.pace = args.pace;
   options.realtime.preload_megabytes = args.preload_megabytes;
@@ -161,7 +178,7 @@ void RunRun(const RunArgs& args) {
   nlohmann::json json =
       SummaryJson(summary, sequence.name(), options.exclusion.ModeName(), detector->Name(), options.realtime);
   std::optional<eval::Evaluation> evaluation;
-  std::optional<eval::PoseCheck> relocalizations;
+  std::optional<eval::PoseCheck> relocalizations, loops;
   const eval::PoseCheckOptions relocalization_limits;
   const fs::path groundtruth = sequence.root() / "groundtruth.txt";
   if (!sequence.groundtruth().empty()) {
@@ -175,6 +192,15 @@ void RunRun(const RunArgs& args) {
                                          evaluation->ate.alignment, summary.relocalized,
                                          evaluation->options.ate.association, relocalization_limits);
       json["evaluation"]["relocalizations"] = eval::PoseCheckToJson(*relocalizations, relocalization_limits);
+      // Each loop closed, by the relative pose its verification found between its two ends: a false loop bends
+      // the whole map.
+      std::vector<eval::RelativePose> loop_poses;
+      for (const slam::LoopClosure& loop : summary.loops) {
+        loop_poses.push_back({loop.timestamp, loop.loop_timestamp, loop.T_loop_current});
+      }
+      loops = eval::CheckRelativePoses(sequence.groundtruth(), loop_poses, evaluation->options.ate.association,
+                                       relocalization_limits);
+      json["evaluation"]["loops"] = eval::PoseCheckToJson(*loops, relocalization_limits);
     } catch (const core::InputError& e) {
       spdlog::warn("not evaluated: {}", e.what());
     }
@@ -233,6 +259,14 @@ void RunRun(const RunArgs& args) {
                relocalizations->poses.size(), relocalizations->Wrong(), relocalization_limits.max_position_error,
                relocalization_limits.max_rotation_error_deg);
   }
+  if (!summary.loops.empty()) {
+    fmt::print("loops closed: {}", summary.loops.size());
+    if (loops) {
+      fmt::print(", {} of them false (their two ends more than {:g} m or {:g}° from the true relative pose)",
+                 loops->Wrong(), relocalization_limits.max_position_error, relocalization_limits.max_rotation_error_deg);
+    }
+    fmt::print("\n");
+  }
   fmt::print("wrote {}/ ({})\n", out.path().string(), fmt::join(written, ", "));
   if (summary.interrupted) {
     spdlog::warn("interrupted after {} of {} frames; the outputs hold the frames done", summary.frames, sequence.size());
@@ -280,6 +314,8 @@ void AddRunCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--out", args->out, "Output folder (created complete or not at all)")->required();
   command->add_option("--frames", args->frames, "Run only the first N frames (0 = all)")->capture_default_str();
+  command->add_flag("--no-loop-closing", args->no_loop_closing,
+                    "Do not close loops: the map keeps the drift of the path back to a place it has seen");
   command->add_flag("--deterministic", args->deterministic,
                     "Local mapping in step with tracking: identical output on every run (slower)");
   command->add_flag("--realtime", args->realtime,

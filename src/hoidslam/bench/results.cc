@@ -77,6 +77,8 @@ RunResult ReadRunResult(const Plan& plan, const RunSpec& spec) {
     result.wasted = Optional(s, Pointer("/exclusion_quality/wasted"));
     result.relocalizations = Optional(s, Pointer("/evaluation/relocalizations/count"));
     result.false_relocalizations = Optional(s, Pointer("/evaluation/relocalizations/false"));
+    result.loops = Optional(s, Pointer("/evaluation/loops/count"));
+    result.false_loops = Optional(s, Pointer("/evaluation/loops/false"));
   } catch (const nlohmann::json::exception& e) {
     throw core::InputError::InFile(summary_path, fmt::format("not a run summary: {}", e.what()));
   }
@@ -108,6 +110,8 @@ nlohmann::json RunResultToJson(const RunResult& r) {
                {"wasted", optional(r.wasted)},
                {"relocalizations", optional(r.relocalizations)},
                {"false_relocalizations", optional(r.false_relocalizations)},
+               {"loops", optional(r.loops)},
+               {"false_loops", optional(r.false_loops)},
                {"median_ms",
                 {{"load", r.median_ms.load},
                  {"extract", r.median_ms.extract},

@@ -36,6 +36,8 @@ struct RunResult {
   std::optional<double> leaked, wasted;  // exclusion quality, shares in [0, 1], on sequences with masks
   // Frames relocalisation found, and of those the false ones (eval/pose_check.h); absent without ground truth.
   std::optional<double> relocalizations, false_relocalizations;
+  // Loops closed, and of those the false ones (their two ends' relative pose against the ground truth's).
+  std::optional<double> loops, false_loops;
 };
 
 // Reads runs/<id>/summary.json, or the log when the folder is absent. Throws InputError naming summary.json

@@ -256,24 +256,34 @@ std::vector<NamedTable> BuildTables(const Plan& plan, const std::vector<RunResul
                                       return static_cast<double>(r.lost + r.before_initialization);
                                     },
                                     Count)});
+  // Events checked against the ground truth, summed over the runs of each cell: one false one in any run is a
+  // failure.
+  const auto false_of_all = [&](const std::string& title, std::optional<double> RunResult::*all,
+                                std::optional<double> RunResult::*wrong, const std::string& what) {
+    const Value count = [all](const RunResult& r) { return r.*all; };
+    report::Table table = PerMode(plan, title, [&](std::size_t s, std::size_t v) {
+      if (!grid.MedianOf(s, v, count)) return grid.Cell(s, v, count, Count);  // says why not
+      double total = 0.0, false_ones = 0.0;
+      for (const RunResult* r : grid.group(s, v).ok) {
+        total += *(r->*all);
+        false_ones += (r->*wrong).value_or(0.0);
+      }
+      return fmt::format("{:g} of {:g}{}", false_ones, total, grid.Shortfall(s, v));
+    });
+    table.note = RunsNote(plan, fmt::format("Summed over the {} runs of each cell: a false {} in any of them is a "
+                                            "failure", plan.options.runs, what));
+    return table;
+  };
   const eval::PoseCheckOptions limits;
-  const Value relocalizations = [](const RunResult& r) { return r.relocalizations; };
-  report::Table relocalized = PerMode(
-      plan,
-      fmt::format("False relocalisations (more than {:g} m or {:g}° from the ground truth) of all, over the runs",
-                  limits.max_position_error, limits.max_rotation_error_deg),
-      [&](std::size_t s, std::size_t v) {
-        if (!grid.MedianOf(s, v, relocalizations)) return grid.Cell(s, v, relocalizations, Count);  // says why not
-        double all = 0.0, wrong = 0.0;
-        for (const RunResult* r : grid.group(s, v).ok) {
-          all += *r->relocalizations;
-          wrong += r->false_relocalizations.value_or(0.0);
-        }
-        return fmt::format("{:g} of {:g}{}", wrong, all, grid.Shortfall(s, v));
-      });
-  relocalized.note = RunsNote(plan, fmt::format("Summed over the {} runs of each cell: a false relocalisation in "
-                                                "any of them is a failure", plan.options.runs));
-  tables.push_back({"relocalizations", std::move(relocalized)});
+  tables.push_back({"relocalizations",
+                    false_of_all(fmt::format("False relocalisations (more than {:g} m or {:g}° from the ground truth) "
+                                             "of all, over the runs",
+                                             limits.max_position_error, limits.max_rotation_error_deg),
+                                 &RunResult::relocalizations, &RunResult::false_relocalizations, "relocalisation")});
+  tables.push_back({"loops", false_of_all(fmt::format("False loops (their two ends more than {:g} m or {:g}° from the "
+                                                      "true relative pose) of all closed, over the runs",
+                                                      limits.max_position_error, limits.max_rotation_error_deg),
+                                          &RunResult::loops, &RunResult::false_loops, "loop")});
 
   const bool any_masks = std::any_of(plan.sequences.begin(), plan.sequences.end(),
                                      [](const BenchSequence& s) { return s.has_masks && s.problem.empty(); });

@@ -52,6 +52,37 @@ PoseCheck CheckPoses(const core::Trajectory& groundtruth, const core::Trajectory
   return check;
 }
 
+PoseCheck CheckRelativePoses(const core::Trajectory& groundtruth, std::span<const RelativePose> relative,
+                             const AssociationOptions& association, const PoseCheckOptions& options) {
+  association.Check();
+  const core::Trajectory gt = SortedUniqueByTime(groundtruth);
+  const std::vector<double> gt_stamps = Timestamps(gt);
+  const auto truth_at = [&](double stamp) -> const core::StampedPose* {
+    if (gt.empty()) return nullptr;
+    const core::StampedPose& truth = gt[ClosestIndex(gt_stamps, stamp + association.offset)];
+    return std::abs(truth.timestamp - (stamp + association.offset)) < association.max_difference ? &truth : nullptr;
+  };
+  PoseCheck check;
+  for (const RelativePose& r : relative) {
+    const core::StampedPose* frame = truth_at(r.timestamp);
+    const core::StampedPose* base = truth_at(r.base_timestamp);
+    if (frame == nullptr || base == nullptr) {
+      ++check.unmatched;
+      continue;
+    }
+    const core::Pose T_true = base->T_wc.inverse() * frame->T_wc;
+    const core::Pose difference = T_true.inverse() * r.T_base_frame;
+    CheckedPose checked;
+    checked.timestamp = r.timestamp;
+    checked.position_error = difference.translation().norm();
+    checked.rotation_error_deg = core::RotationAngleDegrees(difference.linear());
+    checked.wrong = checked.position_error > options.max_position_error ||
+                    checked.rotation_error_deg > options.max_rotation_error_deg;
+    check.poses.push_back(checked);
+  }
+  return check;
+}
+
 nlohmann::json PoseCheckToJson(const PoseCheck& check, const PoseCheckOptions& options) {
   nlohmann::json poses = nlohmann::json::array();
   for (const CheckedPose& p : check.poses) {

@@ -39,6 +39,20 @@ PoseCheck CheckPoses(const core::Trajectory& groundtruth, const core::Trajectory
                      const Alignment& alignment, std::span<const double> stamps,
                      const AssociationOptions& association, const PoseCheckOptions& options);
 
+// A relative pose an estimate measured between two of its frames: the bench's check of loop closing, where the
+// loop's two ends are joined by the pose the verification found between them.
+struct RelativePose {
+  double timestamp = 0.0;       // of the frame whose pose is given ...
+  double base_timestamp = 0.0;  // ... relative to this one's
+  core::Pose T_base_frame;      // the frame's camera into the base's camera
+};
+
+// Checks each relative pose against the ground truth's between the two stamps (each matched to the nearest
+// ground-truth pose within association.max_difference): no alignment is needed, a relative pose is the same in
+// every world frame. CheckedPose::timestamp is the frame's.
+PoseCheck CheckRelativePoses(const core::Trajectory& groundtruth, std::span<const RelativePose> relative,
+                             const AssociationOptions& association, const PoseCheckOptions& options);
+
 // {"count", "false", "unmatched", "max_position_error_m", "max_rotation_error_deg", "poses": [...]}: the limits
 // and every checked pose.
 nlohmann::json PoseCheckToJson(const PoseCheck& check, const PoseCheckOptions& options);

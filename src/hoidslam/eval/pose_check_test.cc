@@ -77,5 +77,24 @@ TEST_F(PoseCheckTest, JsonCountsTheFalseOnesAndKeepsTheLimits) {
   EXPECT_EQ(json["poses"][0]["false"], true);
 }
 
+TEST_F(PoseCheckTest, ALoopIsJudgedByTheRelativePoseOfItsTwoEndsInAnyWorldFrame) {
+  // The loops the estimate (in a world frame of its own) would measure between frames 250 and 20, and 280 and 40.
+  const auto measured = [&](std::size_t frame, std::size_t base) {
+    return RelativePose{gt_[frame].timestamp, gt_[base].timestamp,
+                        estimate_[base].T_wc.inverse() * estimate_[frame].T_wc};
+  };
+  std::vector<RelativePose> loops = {measured(250, 20), measured(280, 40), measured(100, 20)};  // 100: spoiled
+  loops.push_back({gt_.back().timestamp + 1.0, gt_[0].timestamp, core::Pose::Identity()});    // no ground truth
+  const PoseCheck check = CheckRelativePoses(gt_, loops, {}, {});
+  ASSERT_EQ(check.poses.size(), 3U);
+  EXPECT_EQ(check.unmatched, 1U);
+  EXPECT_LT(check.poses[0].position_error, 1e-6);
+  EXPECT_LT(check.poses[1].rotation_error_deg, 1e-6);
+  EXPECT_FALSE(check.poses[0].wrong);
+  EXPECT_TRUE(check.poses[2].wrong);
+  EXPECT_NEAR(check.poses[2].position_error, 0.15, 1e-6);
+  EXPECT_EQ(check.poses[2].timestamp, gt_[100].timestamp);
+}
+
 }  // namespace
 }  // namespace hoidslam::eval

@@ -371,6 +371,7 @@ RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detec
   log.Commit();
   summary.keyframes = keyframes.size();
   summary.map_points = cloud.size();
+  summary.loops = system.LoopClosures();
   return summary;
 }
 

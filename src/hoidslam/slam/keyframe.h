@@ -26,6 +26,7 @@ class KeyFrame {
   std::uint64_t frame_id() const { return frame_id_; }
   double timestamp() const { return timestamp_; }
   const KeypointSet& keypoints() const { return *keypoints_; }
+  const std::shared_ptr<const KeypointSet>& shared_keypoints() const { return keypoints_; }
 
   const core::Pose& T_cw() const { return T_cw_; }
   const core::Pose& T_wc() const { return T_wc_; }
@@ -46,6 +47,8 @@ class KeyFrame {
   KeyFrame* parent() const { return parent_; }
   const std::vector<KeyFrame*>& children() const { return children_; }
   bool bad() const { return bad_; }
+  // Keyframes a closed loop joined this one to: edges of the essential graph, and never culled.
+  const std::vector<KeyFrame*>& loop_edges() const { return loop_edges_; }
   // Its bag of words and direct index (bow::Vocabulary::Transform of its keypoints): empty until local mapping
   // computes them and enters the keyframe into the place-recognition database.
   const bow::ImageWords& words() const { return words_; }
@@ -62,6 +65,7 @@ class KeyFrame {
   void SortCovisibles();
   void AddChild(KeyFrame* child);
   void SetWords(bow::ImageWords words) { words_ = std::move(words); }
+  void AddLoopEdge(KeyFrame* other) { loop_edges_.push_back(other); }
   void EraseChild(const KeyFrame* child);
 
   KeyFrameId id_;
@@ -77,6 +81,7 @@ class KeyFrame {
   bool bad_ = false;
   core::Pose T_cp_ = core::Pose::Identity();
   bow::ImageWords words_;
+  std::vector<KeyFrame*> loop_edges_;
 };
 
 }  // namespace hoidslam::slam

@@ -1,7 +1,9 @@
 #include "hoidslam/slam/keyframe_database.h"
 
 #include <algorithm>
+#include <limits>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "hoidslam/slam/keyframe.h"
 
@@ -29,11 +31,23 @@ void KeyFrameDatabase::Erase(const KeyFrame* keyframe) {
 
 std::vector<KeyFrame*> KeyFrameDatabase::RelocalizationCandidates(const bow::BowVector& words,
                                                                   std::size_t max_candidates) const {
+  return Candidates(words, nullptr, 0.0, max_candidates);
+}
+
+std::vector<KeyFrame*> KeyFrameDatabase::LoopCandidates(const KeyFrame& keyframe, double min_score) const {
+  std::unordered_set<const KeyFrame*> connected = {&keyframe};
+  for (const auto& [neighbour, weight] : keyframe.covisibles()) connected.insert(neighbour);
+  return Candidates(keyframe.words().bow, &connected, min_score, std::numeric_limits<std::size_t>::max());
+}
+
+std::vector<KeyFrame*> KeyFrameDatabase::Candidates(const bow::BowVector& words,
+                                                    const std::unordered_set<const KeyFrame*>* excluded,
+                                                    double min_score, std::size_t max_candidates) const {
   std::unordered_map<KeyFrame*, int> shared;
   for (const bow::WordWeight& w : words) {
     if (w.word >= keyframes_by_word_.size()) continue;
     for (KeyFrame* keyframe : keyframes_by_word_[w.word]) {
-      if (!keyframe->bad()) ++shared[keyframe];
+      if (!keyframe->bad() && (excluded == nullptr || !excluded->contains(keyframe))) ++shared[keyframe];
     }
   }
   int most_shared = 0;
@@ -42,7 +56,9 @@ std::vector<KeyFrame*> KeyFrameDatabase::RelocalizationCandidates(const bow::Bow
 
   std::unordered_map<KeyFrame*, double> scores;
   for (const auto& [keyframe, count] : shared) {
-    if (count >= min_shared) scores[keyframe] = bow::Score(words, keyframe->words().bow);
+    if (count < min_shared) continue;
+    const double score = bow::Score(words, keyframe->words().bow);
+    if (score >= min_score) scores[keyframe] = score;
   }
   struct Group {
     double credit = 0.0;

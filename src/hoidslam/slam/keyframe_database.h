@@ -6,6 +6,7 @@
 // Owned by the Map and locked with it (map.h): queried under its lock shared, changed under it exclusively.
 
 #include <cstddef>
+#include <unordered_set>
 #include <vector>
 
 #include "hoidslam/bow/bow_vector.h"
@@ -26,8 +27,17 @@ class KeyFrameDatabase {
   // of each group whose credit reaches 75 % of the best credit is returned, best credit first (ties by id), at most
   // `max_candidates` of them.
   std::vector<KeyFrame*> RelocalizationCandidates(const bow::BowVector& words, std::size_t max_candidates) const;
+  // ORB-SLAM's loop candidates for a keyframe: the same, but from the keyframes not connected to it in the
+  // covisibility graph (a loop joins what tracking did not), and only those scoring at least `min_score` — the
+  // score of its least similar covisible keyframe, so a candidate must look at least as much like it as its own
+  // neighbours do. All groups within 75 % of the best credit are returned.
+  std::vector<KeyFrame*> LoopCandidates(const KeyFrame& keyframe, double min_score) const;
 
  private:
+  // Both of the above: keyframes in `excluded` (when given) and those scoring below `min_score` take no part.
+  std::vector<KeyFrame*> Candidates(const bow::BowVector& words, const std::unordered_set<const KeyFrame*>* excluded,
+                                    double min_score, std::size_t max_candidates) const;
+
   std::vector<std::vector<KeyFrame*>> keyframes_by_word_;
 };
 

@@ -12,6 +12,7 @@
 
 #include "hoidslam/core/error.h"
 #include "hoidslam/features/orb_extractor.h"
+#include "hoidslam/slam/fusion.h"
 #include "hoidslam/slam/matcher.h"
 
 namespace hoidslam::slam {
@@ -76,8 +77,9 @@ void LocalMapperOptions::Check() const {
   }
 }
 
-LocalMapper::LocalMapper(Map& map, const bow::Vocabulary& vocabulary, const LocalMapperOptions& options)
-    : map_(map), vocabulary_(vocabulary), options_(options) {
+LocalMapper::LocalMapper(Map& map, const bow::Vocabulary& vocabulary, const LocalMapperOptions& options,
+                         std::function<void(KeyFrame*)> mapped)
+    : map_(map), vocabulary_(vocabulary), options_(options), mapped_(std::move(mapped)) {
   options_.Check();
 }
 
@@ -112,11 +114,42 @@ KeyFrame* LocalMapper::NextKeyFrame() {
   return keyframe;
 }
 
+LocalMapper::PauseGuard LocalMapper::Pause() {
+  {
+    std::lock_guard lock(queue_mutex_);
+    paused_ = true;
+  }
+  WaitUntilIdle();
+  return PauseGuard(*this);
+}
+
+void LocalMapper::WaitUntilIdle() {
+  std::unique_lock lock(queue_mutex_);
+  queue_changed_.wait(lock, [this] { return queue_.empty() && !busy_; });
+}
+
+void LocalMapper::Resume() {
+  {
+    std::lock_guard lock(queue_mutex_);
+    paused_ = false;
+  }
+  queue_changed_.notify_all();
+}
+
+bool LocalMapper::Paused() const {
+  std::lock_guard lock(queue_mutex_);
+  return paused_;
+}
+
 void LocalMapper::ProcessQueue() {
   while (KeyFrame* keyframe = NextKeyFrame()) {
     Process(keyframe);
-    std::lock_guard lock(queue_mutex_);
-    busy_ = false;
+    if (mapped_) mapped_(keyframe);
+    {
+      std::lock_guard lock(queue_mutex_);
+      busy_ = false;
+    }
+    queue_changed_.notify_all();
   }
 }
 
@@ -321,46 +354,6 @@ void LocalMapper::CreateNewPoints(KeyFrame* keyframe) {
   }
 }
 
-namespace {
-
-// Projects `points` into `keyframe` and merges each with the keypoint it lands on: a keypoint that has a point
-// already keeps the better-observed of the two, a free one takes the projected point.
-void Fuse(Map& map, KeyFrame* keyframe, const std::vector<MapPoint*>& points, double radius) {
-  const KeypointSet& keypoints = keyframe->keypoints();
-  const Sensor& sensor = keypoints.sensor();
-  for (MapPoint* point : points) {
-    if (point->bad() || point->IndexIn(keyframe) >= 0) continue;
-    ProjectedPoint projected;
-    if (!ProjectIntoFrame(*point, keyframe->T_cw(), sensor, 0.5, projected)) continue;
-    const double r = radius * sensor.pyramid.scale[static_cast<std::size_t>(projected.level)];
-    int best = -1, best_distance = 256;
-    for (const int j : keypoints.FeaturesInArea(projected.uv.x(), projected.uv.y(), r, projected.level - 1,
-                                                projected.level)) {
-      const KeypointMeasurement m = keypoints.Measurement(j);
-      double error = (projected.uv - m.uv).squaredNorm();
-      if (m.has_depth) error += (projected.ur - m.ur) * (projected.ur - m.ur);
-      if (error * m.inv_sigma2 > (m.has_depth ? kChi2Stereo : kChi2Mono)) continue;
-      const int d = DescriptorDistance(*point, keypoints, j);
-      if (d < best_distance) {
-        best_distance = d;
-        best = j;
-      }
-    }
-    if (best < 0 || best_distance > kDescriptorDistanceLow) continue;
-    MapPoint* existing = keyframe->map_point(best);
-    if (existing != nullptr && !existing->bad()) {
-      if (existing->num_observations() > point->num_observations()) {
-        map.ReplacePoint(point, existing);
-      } else {
-        map.ReplacePoint(existing, point);
-      }
-    } else {
-      map.AddObservation(point, keyframe, best);
-    }
-  }
-}
-
-}  // namespace
 
 void LocalMapper::FuseNeighbours(KeyFrame* keyframe) {
   std::vector<KeyFrame*> targets;
@@ -382,7 +375,7 @@ void LocalMapper::FuseNeighbours(KeyFrame* keyframe) {
     for (MapPoint* p : keyframe->map_points()) {
       if (p != nullptr && !p->bad()) points.push_back(p);
     }
-    Fuse(map_, target, points, 3.0);
+    FuseByProjection(map_, target, points, 3.0);
   }
   std::vector<MapPoint*> candidates;
   std::unordered_set<const MapPoint*> seen;
@@ -391,7 +384,7 @@ void LocalMapper::FuseNeighbours(KeyFrame* keyframe) {
       if (p != nullptr && !p->bad() && seen.insert(p).second) candidates.push_back(p);
     }
   }
-  Fuse(map_, keyframe, candidates, 3.0);
+  FuseByProjection(map_, keyframe, candidates, 3.0);
 
   for (MapPoint* p : keyframe->map_points()) {
     if (p != nullptr) map_.UpdatePoint(p);

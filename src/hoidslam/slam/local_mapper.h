@@ -12,6 +12,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <deque>
+#include <functional>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -33,8 +34,11 @@ struct LocalMapperOptions {
 
 class LocalMapper {
  public:
-  // Keyframes are described with `vocabulary` for place recognition; it must outlive the mapper.
-  LocalMapper(Map& map, const bow::Vocabulary& vocabulary, const LocalMapperOptions& options);
+  // Keyframes are described with `vocabulary` for place recognition; it must outlive the mapper. `mapped`, when
+  // given, is called with each keyframe once it is mapped (loop closing takes it from there), in the mapper's
+  // thread.
+  LocalMapper(Map& map, const bow::Vocabulary& vocabulary, const LocalMapperOptions& options,
+              std::function<void(KeyFrame*)> mapped = {});
   ~LocalMapper();  // stops the thread, if started
   LocalMapper(const LocalMapper&) = delete;
   LocalMapper& operator=(const LocalMapper&) = delete;
@@ -45,6 +49,28 @@ class LocalMapper {
   // True when nothing is queued or being processed. Thread-safe.
   bool Idle() const;
   std::size_t Queued() const;
+
+  // While a loop is corrected, local mapping must not change the map and tracking makes no keyframes: Pause()
+  // asks for that, lets the mapper finish what is queued, and returns once it stands still; it goes on when the
+  // returned guard is destroyed. Called from another thread than the mapper's (or, in the deterministic mode, once
+  // the queue has been processed).
+  class PauseGuard {
+   public:
+    explicit PauseGuard(LocalMapper& mapper) : mapper_(&mapper) {}
+    PauseGuard(const PauseGuard&) = delete;
+    PauseGuard& operator=(const PauseGuard&) = delete;
+    ~PauseGuard() { mapper_->Resume(); }
+
+   private:
+    LocalMapper* mapper_;
+  };
+  [[nodiscard]] PauseGuard Pause();
+  // Whether a pause is asked for or under way: tracking makes no keyframe then. Thread-safe.
+  bool Paused() const;
+  // Returns once nothing is queued or being processed. A keyframe tracking made just before the pause may still
+  // arrive after Pause() returned: the caller checks Idle() again with the map's lock held (tracking queues its
+  // keyframes under it) and waits again if need be.
+  void WaitUntilIdle();
 
   // Processes every queued keyframe in the calling thread (the deterministic mode).
   void ProcessQueue();
@@ -61,15 +87,18 @@ class LocalMapper {
   void RunLocalBundleAdjustment(KeyFrame* keyframe);
   void CullKeyFrames(KeyFrame* keyframe);
   void Loop(std::stop_token stop);
+  void Resume();
 
   Map& map_;
   const bow::Vocabulary& vocabulary_;
   LocalMapperOptions options_;
+  std::function<void(KeyFrame*)> mapped_;
 
   mutable std::mutex queue_mutex_;
   std::condition_variable_any queue_changed_;
   std::deque<KeyFrame*> queue_;
   bool busy_ = false;
+  bool paused_ = false;
   std::atomic<bool> abort_bundle_adjustment_{false};
 
   std::vector<MapPoint*> recent_points_;  // created lately, still on probation; local mapping thread only

@@ -118,8 +118,11 @@ void Map::UpdateConnections(KeyFrame* keyframe) {
 }
 
 void Map::EraseKeyFrame(KeyFrame* keyframe) {
-  // The first keyframe anchors the world frame; one never connected has no parent to hand its children to.
-  if (keyframe->bad_ || keyframe == first_keyframe() || keyframe->parent_ == nullptr) return;
+  // The first keyframe anchors the world frame; one never connected has no parent to hand its children to; the
+  // ends of a closed loop hold the essential graph together.
+  if (keyframe->bad_ || keyframe == first_keyframe() || keyframe->parent_ == nullptr || !keyframe->loop_edges_.empty()) {
+    return;
+  }
   for (const auto& [other, weight] : keyframe->covisibles_) other->EraseCovisible(keyframe);
   for (MapPoint* point : keyframe->map_points_) {
     if (point != nullptr) EraseObservation(point, keyframe);
@@ -183,6 +186,11 @@ std::vector<MapPoint*> Map::MapPoints() const {
     if (!point->bad_) good.push_back(point.get());
   }
   return good;
+}
+
+void Map::AddLoopEdge(KeyFrame* a, KeyFrame* b) {
+  a->AddLoopEdge(b);
+  b->AddLoopEdge(a);
 }
 
 }  // namespace hoidslam::slam

@@ -53,8 +53,10 @@ class Map {
   void UpdateConnections(KeyFrame* keyframe);
   // Culls a keyframe: its observations and edges are removed, its children are re-parented to their strongest
   // covisible keyframe among the candidates (its parent and the children already re-parented), and it keeps its
-  // pose relative to its parent. The first keyframe is never erased.
+  // pose relative to its parent. The first keyframe and the ends of a closed loop are never erased.
   void EraseKeyFrame(KeyFrame* keyframe);
+  // Joins the two ends of a closed loop (KeyFrame::loop_edges).
+  void AddLoopEdge(KeyFrame* a, KeyFrame* b);
   // Gives the keyframe its bag of words and enters it into the place-recognition database.
   void IndexKeyFrame(KeyFrame* keyframe, bow::ImageWords words);
 

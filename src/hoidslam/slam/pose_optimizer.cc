@@ -209,4 +209,29 @@ int OptimizePose(const RgbdCamera& camera, std::span<const Eigen::Vector3d> poin
   return inliers;
 }
 
+int OptimizeFramePose(Frame& frame, const PoseOptimizerOptions& options, bool drop_outliers) {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<KeypointMeasurement> measurements;
+  std::vector<int> index;
+  for (int i = 0; i < frame.size(); ++i) {
+    const MapPoint* p = frame.map_points[static_cast<std::size_t>(i)];
+    if (p == nullptr) continue;
+    points.push_back(p->position());
+    measurements.push_back(frame.keypoints->Measurement(i));
+    index.push_back(i);
+  }
+  std::vector<std::uint8_t> outlier;
+  const int inliers = OptimizePose(frame.keypoints->sensor().camera, points, measurements, frame.T_cw, outlier,
+                                   options);
+  for (std::size_t k = 0; k < index.size(); ++k) {
+    const auto i = static_cast<std::size_t>(index[k]);
+    frame.outlier[i] = outlier.empty() ? 1 : outlier[k];
+    if (drop_outliers && frame.outlier[i] != 0) {
+      frame.map_points[i] = nullptr;
+      frame.outlier[i] = 0;
+    }
+  }
+  return inliers;
+}
+
 }  // namespace hoidslam::slam

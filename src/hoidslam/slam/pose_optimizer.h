@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 
 #include "hoidslam/core/pose.h"
+#include "hoidslam/slam/frame.h"
 #include "hoidslam/slam/measurement.h"
 
 namespace hoidslam::slam {
@@ -32,5 +33,9 @@ struct PoseOptimizerOptions {
 int OptimizePose(const RgbdCamera& camera, std::span<const Eigen::Vector3d> points_w,
                  std::span<const KeypointMeasurement> measurements, core::Pose& T_cw, std::vector<std::uint8_t>& outlier,
                  const PoseOptimizerOptions& options = {});
+
+// OptimizePose over a frame's matches: refines frame.T_cw and sets frame.outlier; with `drop_outliers` the
+// outliers' matches are cleared instead. Returns the inliers.
+int OptimizeFramePose(Frame& frame, const PoseOptimizerOptions& options, bool drop_outliers);
 
 }  // namespace hoidslam::slam

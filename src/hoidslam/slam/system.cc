@@ -20,6 +20,7 @@ void SystemOptions::Check() const {
   orb.Check();
   tracking.Check();
   mapping.Check();
+  loop_closing.Check();
 }
 
 namespace {
@@ -36,19 +37,34 @@ LocalMapperOptions MapperOptions(const SystemOptions& options) {
   return mapping;
 }
 
+// Local mapping hands each keyframe it has mapped to loop closing, when that is on. (The closer is constructed
+// after the mapper, but no keyframe is mapped before both stand.)
+std::function<void(KeyFrame*)> MappedCallback(const SystemOptions& options, LoopCloser& loop_closer) {
+  if (!options.loop_closing.enabled) return {};
+  return [&loop_closer](KeyFrame* keyframe) { loop_closer.Insert(keyframe); };
+}
+
 }  // namespace
 
 System::System(const SystemOptions& options)
     : options_(Checked(options)),
       extractor_(options.orb),
       vocabulary_(bow::Vocabulary::Load(options.vocabulary)),
-      local_mapper_(map_, vocabulary_, MapperOptions(options)),
+      local_mapper_(map_, vocabulary_, MapperOptions(options), MappedCallback(options, loop_closer_)),
+      loop_closer_(map_, local_mapper_, options.loop_closing),
       tracker_(map_, vocabulary_, local_mapper_, options.tracking) {
   sensor_ = Sensor::Make(options.camera, options.bf, options.close_depth, extractor_.pyramid());
-  if (!options_.deterministic) local_mapper_.Start();
+  if (!options_.deterministic) {
+    local_mapper_.Start();
+    loop_closer_.Start();
+  }
 }
 
-System::~System() { local_mapper_.Stop(); }
+// Local mapping first: it hands keyframes to loop closing.
+System::~System() {
+  local_mapper_.Stop();
+  loop_closer_.Stop();
+}
 
 ExtractedFeatures System::Extract(const cv::Mat& image) {
   if (image.type() == CV_8UC3) {
@@ -96,13 +112,18 @@ TrackResult System::Track(const core::RgbdFrame& frame, const ExtractedFeatures&
   auto keypoints = std::make_shared<const KeypointSet>(sensor_, std::move(kept), std::move(descriptors), frame.depth,
                                                        frame.rgb);
   TrackResult result = tracker_.Track(Frame(next_frame_id_++, frame.timestamp, std::move(keypoints)));
-  if (options_.deterministic && result.keyframe) local_mapper_.ProcessQueue();
+  if (options_.deterministic && result.keyframe) {
+    local_mapper_.ProcessQueue();
+    loop_closer_.ProcessQueue();
+  }
   return result;
 }
 
 void System::Finish() {
   local_mapper_.Stop();
   local_mapper_.ProcessQueue();
+  loop_closer_.Stop();
+  loop_closer_.ProcessQueue();
 }
 
 core::Trajectory System::FrameTrajectory() const {
@@ -142,5 +163,7 @@ std::size_t System::NumKeyFrames() const {
   std::shared_lock lock(map_.mutex());
   return map_.NumKeyFrames();
 }
+
+std::vector<LoopClosure> System::LoopClosures() const { return loop_closer_.closures(); }
 
 }  // namespace hoidslam::slam

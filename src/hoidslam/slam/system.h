@@ -1,6 +1,6 @@
 #pragma once
-// The SLAM system behind one small facade: ORB extraction, tracking, and local mapping (in its own thread, or
-// in step with tracking in the deterministic mode). A caller extracts a frame's features, decides which
+// The SLAM system behind one small facade: ORB extraction, tracking, local mapping and loop closing (each in its
+// own thread, or in step with tracking in the deterministic mode). A caller extracts a frame's features, decides which
 // keypoints to keep (the exclusion filter), and tracks the frame with the kept ones; at the end it reads the
 // trajectory and the map.
 
@@ -19,6 +19,7 @@
 #include "hoidslam/core/pose.h"
 #include "hoidslam/features/orb_extractor.h"
 #include "hoidslam/slam/local_mapper.h"
+#include "hoidslam/slam/loop_closer.h"
 #include "hoidslam/slam/map.h"
 #include "hoidslam/slam/sensor.h"
 #include "hoidslam/slam/tracker.h"
@@ -35,6 +36,7 @@ struct SystemOptions {
   core::OrbOptions orb;
   TrackerOptions tracking;
   LocalMapperOptions mapping;
+  LoopClosingOptions loop_closing;
   // Local mapping in step with tracking (no thread) and single-threaded bundle adjustment: the same input gives
   // a byte-identical trajectory on every run.
   bool deterministic = false;
@@ -61,7 +63,7 @@ class System {
  public:
   // Throws core::InputError when the options fail Check().
   explicit System(const SystemOptions& options);
-  ~System();  // stops local mapping
+  ~System();  // stops local mapping and loop closing
   System(const System&) = delete;
   System& operator=(const System&) = delete;
 
@@ -76,7 +78,8 @@ class System {
   // size or the images do not match the camera size.
   TrackResult Track(const core::RgbdFrame& frame, const ExtractedFeatures& features, std::span<const std::uint8_t> keep);
 
-  // Lets local mapping finish its queue and stops it; the outputs below then show the final map.
+  // Lets local mapping and loop closing finish their queues and stops them; the outputs below then show the final
+  // map.
   void Finish();
 
   // Every tracked frame's pose, placed relative to its reference keyframe as the map finally has it.
@@ -85,6 +88,8 @@ class System {
   core::Trajectory KeyFrameTrajectory() const;
   std::vector<MapPointSample> MapPoints() const;
   std::size_t NumKeyFrames() const;
+  // The loops closed so far, in order.
+  std::vector<LoopClosure> LoopClosures() const;
 
  private:
   SystemOptions options_;
@@ -93,6 +98,7 @@ class System {
   const bow::Vocabulary vocabulary_;
   Map map_;
   LocalMapper local_mapper_;
+  LoopCloser loop_closer_;
   Tracker tracker_;
   std::uint64_t next_frame_id_ = 0;
   cv::Mat gray_;

@@ -20,12 +20,15 @@ namespace {
 constexpr double kPlaneDepth = 2.0;  // metres
 constexpr int kShift = 3;            // pixels per frame
 
-// A texture of random grey rectangles and discs, larger than the image so that frames can be cut from it.
-cv::Mat MakeTexture(std::uint32_t seed) {
+// A texture of random grey rectangles and discs, larger than the image so that frames can be cut from it; 1500
+// shapes on the default 800×600, as many per pixel on other sizes.
+cv::Mat MakeTexture(std::uint32_t seed, cv::Size texture_size = {800, 600}) {
   std::mt19937 rng(seed);
-  std::uniform_int_distribution<int> x(0, 799), y(0, 599), size(4, 40), grey(0, 255);
-  cv::Mat texture(600, 800, CV_8UC3, cv::Scalar::all(128));
-  for (int k = 0; k < 1500; ++k) {
+  std::uniform_int_distribution<int> x(0, texture_size.width - 1), y(0, texture_size.height - 1), size(4, 40),
+      grey(0, 255);
+  cv::Mat texture(texture_size, CV_8UC3, cv::Scalar::all(128));
+  const int shapes = 1500 * texture_size.area() / (800 * 600);
+  for (int k = 0; k < shapes; ++k) {
     // One draw per statement: the order in which a compiler evaluates arguments must not change the texture.
     // (This is the order GCC evaluates them in, which the tests below were written against.)
     const cv::Scalar colour = cv::Scalar::all(grey(rng));
@@ -302,6 +305,114 @@ TEST(System, ARelocalisationBeyondTheCameraReachAfterAShortLossIsRefused) {
   EXPECT_GT(timestamp - last_tracked, 1.0);
   EXPECT_EQ(result.method, TrackingMethod::kRelocalization);
   EXPECT_LT((result.T_cw->translation() - TrueTranslation(0)).norm(), 0.005);
+}
+
+// Loop closing on the wall: the camera looks at it from kPlaneDepth and moves parallel to it; a frame is the view
+// whose top-left corner is at `offset` pixels of the texture.
+core::RgbdFrame ViewAt(const cv::Mat& texture, cv::Point offset, int k) {
+  core::RgbdFrame frame;
+  frame.timestamp = 100.0 + k / 30.0;
+  frame.rgb = texture(cv::Rect(offset, cv::Size(640, 480))).clone();
+  frame.depth = cv::Mat(480, 640, CV_32FC1, cv::Scalar(kPlaneDepth));
+  return frame;
+}
+
+// The camera centre of the view at `offset`, the first view (at `start`) the world's origin.
+Eigen::Vector3d TrueCentre(cv::Point offset, cv::Point start) {
+  const core::CameraIntrinsics camera;
+  return {(offset.x - start.x) * kPlaneDepth / camera.fx, (offset.y - start.y) * kPlaneDepth / camera.fy, 0.0};
+}
+
+// Offsets along the path: from `from` to `to` in steps of `step` pixels, `to` included.
+void AddLeg(std::vector<cv::Point>& path, cv::Point from, cv::Point to, int step) {
+  const cv::Point d = to - from;
+  const int steps = std::max(std::abs(d.x), std::abs(d.y)) / step;
+  for (int s = 1; s <= steps; ++s) path.push_back(from + d * s / steps);
+}
+
+// Round a rectangle of 700 × 500 pixels (2.6 × 1.9 m at 2 m), 14 pixels a frame, and on along its first side: the
+// views at its corners share nothing, so the map comes back to its start along keyframes that never saw it, and
+// only a loop can join the two ends.
+struct RoundTheWall {
+  std::vector<cv::Point> path;
+  core::Trajectory trajectory;
+  std::vector<LoopClosure> loops;
+};
+
+RoundTheWall GoRoundTheWall(bool loop_closing) {
+  const cv::Mat texture = MakeTexture(7, {1340, 980});
+  RoundTheWall round;
+  std::vector<cv::Point>& path = round.path;
+  path = {{0, 0}};
+  AddLeg(path, {0, 0}, {700, 0}, 14);
+  AddLeg(path, {700, 0}, {700, 500}, 14);
+  AddLeg(path, {700, 500}, {0, 500}, 14);
+  AddLeg(path, {0, 500}, {0, 0}, 14);
+  AddLeg(path, {0, 0}, {700, 0}, 14);
+  SystemOptions options = Options();
+  options.loop_closing.enabled = loop_closing;
+  options.loop_closing.min_keyframes = 4;  // a plane needs few keyframes
+  System system(options);
+  for (std::size_t k = 0; k < path.size(); ++k) {
+    const core::RgbdFrame frame = ViewAt(texture, path[k], static_cast<int>(k));
+    EXPECT_EQ(system.Track(frame, system.Extract(frame.rgb), {}).state, TrackingState::kOk) << "frame " << k;
+  }
+  system.Finish();
+  round.trajectory = system.FrameTrajectory();
+  round.loops = system.LoopClosures();
+  return round;
+}
+
+// The largest distance of a tracked camera centre from the truth, over frames [first, end).
+double MaxError(const RoundTheWall& round, std::size_t first, std::size_t end) {
+  double worst = 0.0;
+  for (std::size_t k = first; k < end; ++k) {
+    worst = std::max(worst, (round.trajectory[k].T_wc.translation() - TrueCentre(round.path[k], round.path[0])).norm());
+  }
+  return worst;
+}
+
+TEST(System, ACameraGoingRoundTheWallClosesTheLoopWhereItStarted) {
+  const RoundTheWall open = GoRoundTheWall(false);
+  const RoundTheWall closed = GoRoundTheWall(true);
+  EXPECT_TRUE(open.loops.empty());
+  ASSERT_FALSE(closed.loops.empty());
+  const LoopClosure& loop = closed.loops.front();
+  const std::size_t frame = loop.frame_id, base = loop.loop_frame_id;
+  EXPECT_GT(frame, 170U);  // on the way back over the first side ...
+  EXPECT_LE(base, 50U);    // ... to a keyframe of the first side
+  // The verification's relative pose is the true one.
+  const Eigen::Vector3d true_offset = TrueCentre(closed.path[frame], closed.path[0]) -
+                                      TrueCentre(closed.path[base], closed.path[0]);
+  EXPECT_LT((loop.T_loop_current.translation() - true_offset).norm(), 0.01);
+  EXPECT_LT(core::RotationAngleDegrees(loop.T_loop_current.linear()), 0.5);
+  // Closed, the path's second pass over the first side is where the first pass was; open, it kept the drift.
+  ASSERT_EQ(closed.trajectory.size(), closed.path.size());
+  ASSERT_EQ(open.trajectory.size(), open.path.size());
+  const std::size_t end = closed.path.size();
+  const double open_error = MaxError(open, frame, end), closed_error = MaxError(closed, frame, end);
+  EXPECT_LT(closed_error, 0.5 * open_error) << "open " << open_error;
+  EXPECT_LT(closed_error, 0.015);
+}
+
+TEST(System, AWallThatRepeatsItselfIsNotTakenForALoop) {
+  // The same 700-pixel tile of texture three times over: after 700 pixels the camera sees again what it saw at
+  // the start, 2.6 m further on. Every view fits; the correction a loop would make is more than drift.
+  const cv::Mat tile = MakeTexture(11, {700, 480});
+  cv::Mat texture;
+  cv::hconcat(std::vector<cv::Mat>{tile, tile, tile}, texture);
+  std::vector<cv::Point> path = {{0, 0}};
+  AddLeg(path, {0, 0}, {1400, 0}, 14);
+  System system(Options());
+  for (std::size_t k = 0; k < path.size(); ++k) {
+    const core::RgbdFrame frame = ViewAt(texture, path[k], static_cast<int>(k));
+    ASSERT_EQ(system.Track(frame, system.Extract(frame.rgb), {}).state, TrackingState::kOk) << "frame " << k;
+  }
+  system.Finish();
+  EXPECT_TRUE(system.LoopClosures().empty());
+  const core::Trajectory trajectory = system.FrameTrajectory();
+  ASSERT_EQ(trajectory.size(), path.size());
+  EXPECT_LT((trajectory.back().T_wc.translation() - TrueCentre(path.back(), path[0])).norm(), 0.05);
 }
 
 TEST(System, RejectsBadInput) {

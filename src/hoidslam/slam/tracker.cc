@@ -208,13 +208,17 @@ TrackResult Tracker::Track(Frame frame) {
       result.method = TrackingMethod::kInitialization;
       result.keyframe = true;
       result.matched = result.inliers = frame.keypoints->num_with_depth();
+      local_mapper_.Insert(last_keyframe_);
     }
   } else if (make_keyframe) {
+    // Queued under the lock, and not at all while a loop is being corrected (LocalMapper::Pause).
     std::unique_lock lock(map_.mutex());
-    CreateKeyFrame(frame);
-    result.keyframe = true;
+    if (!local_mapper_.Paused()) {
+      CreateKeyFrame(frame);
+      result.keyframe = true;
+      local_mapper_.Insert(last_keyframe_);
+    }
   }
-  if (result.keyframe) local_mapper_.Insert(last_keyframe_);
 
   if (ok) {
     state_ = TrackingState::kOk;
@@ -262,31 +266,6 @@ bool Tracker::Initialize(Frame& frame) {
   return true;
 }
 
-int Tracker::OptimizeFramePose(Frame& frame, bool drop_outliers) {
-  std::vector<Eigen::Vector3d> points;
-  std::vector<KeypointMeasurement> measurements;
-  std::vector<int> index;
-  for (int i = 0; i < frame.size(); ++i) {
-    const MapPoint* p = frame.map_points[static_cast<std::size_t>(i)];
-    if (p == nullptr) continue;
-    points.push_back(p->position());
-    measurements.push_back(frame.keypoints->Measurement(i));
-    index.push_back(i);
-  }
-  std::vector<std::uint8_t> outlier;
-  const int inliers = OptimizePose(frame.keypoints->sensor().camera, points, measurements, frame.T_cw, outlier,
-                                   options_.pose_optimizer);
-  for (std::size_t k = 0; k < index.size(); ++k) {
-    const auto i = static_cast<std::size_t>(index[k]);
-    frame.outlier[i] = outlier.empty() ? 1 : outlier[k];
-    if (drop_outliers && frame.outlier[i] != 0) {
-      frame.map_points[i] = nullptr;
-      frame.outlier[i] = 0;
-    }
-  }
-  return inliers;
-}
-
 double Tracker::PredictPose(Frame& frame) const {
   const Frame& last = *last_frame_;
   const double elapsed = frame.timestamp - last.timestamp;
@@ -309,7 +288,7 @@ TrackingFailure Tracker::TrackWithMotionModel(Frame& frame) {
     matches = SearchByProjection(frame, last, 2.0 * radius);
   }
   if (matches < kMinProjectionMatches) return TrackingFailure::kTooFewMatches;
-  const int inliers = OptimizeFramePose(frame, true);
+  const int inliers = OptimizeFramePose(frame, options_.pose_optimizer, true);
   spdlog::debug("frame {}: motion model: {} matches, {} inliers", frame.id, matches, inliers);
   return inliers >= kMinFirstEstimateInliers ? TrackingFailure::kNone : TrackingFailure::kPoseRejected;
 }
@@ -331,7 +310,7 @@ TrackingFailure Tracker::TrackFromPrediction(Frame& frame) {
       SearchByProjection(frame, projected, options_.motion_search_radius * frames, kDescriptorDistanceLow);
   if (matches < kMinFirstEstimateInliers) return TrackingFailure::kTooFewMatches;
   const int consistent = EstimatePoseRansac(frame);
-  const int inliers = consistent < kMinFirstEstimateInliers ? 0 : OptimizeFramePose(frame, true);
+  const int inliers = consistent < kMinFirstEstimateInliers ? 0 : OptimizeFramePose(frame, options_.pose_optimizer, true);
   spdlog::debug("frame {}: prediction after {:.2f} s: {} matches, {} consistent, {} inliers", frame.id, elapsed,
                 matches, consistent, inliers);
   // RANSAC may settle anywhere the matches agree: only a pose the camera could have reached is taken.
@@ -345,7 +324,7 @@ TrackingFailure Tracker::TrackReferenceKeyFrame(Frame& frame) {
   const int matches = SearchByDescriptor(*reference_keyframe_, frame, frame.map_points);
   frame.T_cw = last_frame_->T_cw;
   if (matches < kMinDescriptorMatches) return TrackingFailure::kTooFewMatches;
-  const int inliers = OptimizeFramePose(frame, true);
+  const int inliers = OptimizeFramePose(frame, options_.pose_optimizer, true);
   spdlog::debug("frame {}: reference keyframe {}: {} matches, {} inliers", frame.id, reference_keyframe_->id(),
                 matches, inliers);
   return inliers >= kMinFirstEstimateInliers ? TrackingFailure::kNone : TrackingFailure::kPoseRejected;
@@ -421,7 +400,7 @@ TrackingFailure Tracker::TrackLocalMap(Frame& frame, TrackResult& result) {
                 projected.size(), found);
 
   result.matched = CountMatches(frame);
-  result.inliers = OptimizeFramePose(frame, false);
+  result.inliers = OptimizeFramePose(frame, options_.pose_optimizer, false);
   for (int i = 0; i < frame.size(); ++i) {
     if (frame.IsInlier(i)) frame.map_points[static_cast<std::size_t>(i)]->IncreaseFound();
   }
@@ -458,6 +437,7 @@ void Tracker::FindMovingPoints(const Frame& frame, const TrackResult& result) {
 }
 
 bool Tracker::NeedNewKeyFrame(const Frame& frame, int inliers) const {
+  if (local_mapper_.Paused()) return false;  // a loop is being corrected
   const std::size_t keyframes = map_.NumKeyFrames();
   const auto max_interval = static_cast<std::uint64_t>(options_.keyframe_max_interval);
   // Right after relocalising, wait for the map to be trusted again.
@@ -609,7 +589,7 @@ TrackingFailure Tracker::Relocalize(Frame& frame) {
 
     const int consistent = EstimatePoseRansac(frame);
     if (consistent < kMinFirstEstimateInliers) continue;
-    int good = OptimizeFramePose(frame, true);
+    int good = OptimizeFramePose(frame, options_.pose_optimizer, true);
     if (good < kMinFirstEstimateInliers) continue;
     if (good < options_.min_inliers_after_relocalization) {
       // More matches from the candidate's points projected with the estimate.
@@ -623,7 +603,7 @@ TrackingFailure Tracker::Relocalize(Frame& frame) {
         }
       }
       SearchByProjection(frame, projected, 4.0);
-      good = OptimizeFramePose(frame, true);
+      good = OptimizeFramePose(frame, options_.pose_optimizer, true);
     }
     spdlog::debug("frame {}: relocalisation candidate keyframe {}: {} PnP inliers, {} after optimisation", frame.id,
                   candidate->id(), consistent, good);

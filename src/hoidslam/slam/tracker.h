@@ -145,8 +145,6 @@ class Tracker {
   // PnP RANSAC (EPnP, 4 px) over the frame's matches: sets frame.T_cw and keeps only the consistent matches, whose
   // number it returns (0 and the frame untouched when no pose is found).
   int EstimatePoseRansac(Frame& frame);
-  // Refines frame.T_cw from its matches; clears outlier matches when `drop_outliers`; returns the inliers.
-  int OptimizeFramePose(Frame& frame, bool drop_outliers);
   // Refines the pose against the local map; fills result.matched / inliers; kNone when enough inliers remain.
   TrackingFailure TrackLocalMap(Frame& frame, TrackResult& result);
   // Whether a pose with these inliers stands (TrackerOptions: the count, or the support on a frame that has little).
