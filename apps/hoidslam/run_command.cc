@@ -109,6 +109,17 @@ nlohmann::json LoopsJson(const pipeline::RunSummary& s) {
   return loops;
 }
 
+// How long loop closing looked for loops per keyframe, and verified each candidate: count, median and largest (ms).
+nlohmann::json LoopTimingsJson(const pipeline::RunSummary& s) {
+  const auto statistics = [](const std::vector<double>& ms) -> nlohmann::json {
+    if (ms.empty()) return {{"count", 0}, {"median", nullptr}, {"max", nullptr}};
+    const eval::ErrorStatistics stats = eval::ComputeStatistics(ms);
+    return {{"count", ms.size()}, {"median", stats.median}, {"max", stats.max}};
+  };
+  return {{"detection", statistics(s.loop_timings.detection_ms)},
+          {"verification", statistics(s.loop_timings.verification_ms)}};
+}
+
 nlohmann::json SummaryJson(const pipeline::RunSummary& s, const std::string& sequence, const std::string& mode,
                            const std::string& detector, const pipeline::RealTimeOptions& realtime) {
   const auto median = [&](double pipeline::StageTimes::*stage) { return MedianMs(s.times, std::mem_fn(stage)); };
@@ -134,6 +145,7 @@ nlohmann::json SummaryJson(const pipeline::RunSummary& s, const std::string& seq
           {"seconds", s.seconds},
           {"frames_per_second", s.seconds > 0.0 ? static_cast<double>(s.frames) / s.seconds : 0.0},
           {"loops", LoopsJson(s)},
+          {"loop_closing_ms", LoopTimingsJson(s)},
           {"detections", DetectionsJson(s)},
           {"exclusion_quality", ExclusionQualityJson(s)},
           {"median_ms",

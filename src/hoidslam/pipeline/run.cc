@@ -372,6 +372,7 @@ RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detec
   summary.keyframes = keyframes.size();
   summary.map_points = cloud.size();
   summary.loops = system.LoopClosures();
+  summary.loop_timings = system.LoopClosingTimings();
   return summary;
 }
 

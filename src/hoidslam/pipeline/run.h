@@ -105,6 +105,7 @@ struct RunSummary {
   std::size_t dropped = 0;           // frames a paced run passed over, arriving while the system was busy
   std::vector<double> relocalized;   // stamps of the frames relocalisation found again after a loss
   std::vector<slam::LoopClosure> loops;  // closed, in order
+  slam::LoopCloser::Timings loop_timings;
   std::vector<StageTimes> times;     // one per frame
   // Per frame judged by detections: how many frames and ms (of the recording) the detections were older than the
   // frame, and how long the detector took on them, waiting included.

@@ -242,7 +242,7 @@ BundleAdjustmentResult RunBundleAdjustment(BundleAdjustmentProblem& problem, con
     if (ceres_problem.NumResidualBlocks() == 0) return;
 
     ceres::Solver::Options solver_options;
-    solver_options.linear_solver_type = ceres::DENSE_SCHUR;
+    solver_options.linear_solver_type = options.sparse ? ceres::SPARSE_SCHUR : ceres::DENSE_SCHUR;
     solver_options.linear_solver_ordering = ordering;
     solver_options.max_num_iterations = iterations;
     solver_options.num_threads = std::max(options.num_threads, 1);

@@ -33,6 +33,9 @@ struct BundleAdjustmentOptions {
   double chi2_mono = kChi2Mono;
   double chi2_stereo = kChi2Stereo;
   int num_threads = 1;         // Ceres threads; 1 gives identical results run after run
+  // The reduced keyframe system solved as a sparse matrix: for a global adjustment, where most keyframe pairs share
+  // no point; a local one's is small and dense.
+  bool sparse = false;
 };
 
 struct BundleAdjustmentResult {
@@ -48,8 +51,9 @@ struct BundleAdjustmentResult {
 // threshold (or whose point is behind the camera) are left out, and `second_iterations` more run without a
 // kernel. `stop`, when given, is polled between iterations: when it becomes true the adjustment ends early.
 // Keyframes and points without observations are left untouched. Throws std::invalid_argument for indices out of
-// range, a pose_fixed of the wrong size or when no pose is fixed. Points are eliminated first (Ceres
-// DENSE_SCHUR: the reduced keyframe system of a local BA is small, and dense beat sparse here).
+// range, a pose_fixed of the wrong size or when no pose is fixed. Points are eliminated first (Ceres DENSE_SCHUR,
+// or SPARSE_SCHUR with options.sparse: the reduced keyframe system of a local BA is small, and dense beat sparse
+// there).
 BundleAdjustmentResult RunBundleAdjustment(BundleAdjustmentProblem& problem, const BundleAdjustmentOptions& options = {},
                                            const std::atomic<bool>* stop = nullptr);
 

@@ -14,6 +14,7 @@
 #include <spdlog/spdlog.h>
 
 #include "hoidslam/core/error.h"
+#include "hoidslam/core/stopwatch.h"
 #include "hoidslam/slam/frame.h"
 #include "hoidslam/slam/fusion.h"
 #include "hoidslam/slam/matcher.h"
@@ -101,6 +102,7 @@ void LoopClosingOptions::Check() const {
                                          fmt::format("must be <= LoopClosing.checkedNeighbours ({}), got {}",
                                                      checked_neighbours, confirming_neighbours));
   }
+  at_least("LoopClosing.globalIterations", global_iterations, 1);
   at_least("LoopClosing.essentialGraphIterations", essential_graph.iterations, 1);
   at_least("LoopClosing.essentialGraphMinWeight", essential_graph_min_weight, 1);
   if (!(max_neighbour_disagreement_m > 0.0) || !(max_neighbour_disagreement_deg > 0.0)) {
@@ -142,14 +144,19 @@ void LoopCloser::ProcessQueue() {
 }
 
 void LoopCloser::Start() {
-  if (!thread_.joinable()) thread_ = std::jthread([this](std::stop_token stop) { Loop(stop); });
+  if (thread_.joinable()) return;
+  threaded_ = true;
+  thread_ = std::jthread([this](std::stop_token stop) { Loop(stop); });
 }
 
 void LoopCloser::Stop() {
-  if (!thread_.joinable()) return;
-  thread_.request_stop();
-  queue_changed_.notify_all();
-  thread_.join();
+  if (thread_.joinable()) {
+    thread_.request_stop();
+    queue_changed_.notify_all();
+    thread_.join();
+  }
+  if (global_thread_.joinable()) global_thread_.join();  // the map it refines is the final one
+  threaded_ = false;
 }
 
 void LoopCloser::Loop(std::stop_token stop) {
@@ -168,6 +175,11 @@ std::vector<LoopClosure> LoopCloser::closures() const {
   return closures_;
 }
 
+LoopCloser::Timings LoopCloser::timings() const {
+  std::lock_guard lock(closures_mutex_);
+  return timings_;
+}
+
 void LoopCloser::Process(KeyFrame* keyframe) {
   VerifiedLoop loop;
   {
@@ -178,11 +190,114 @@ void LoopCloser::Process(KeyFrame* keyframe) {
         (last_loop_keyframe_id_ && keyframe->id() < *last_loop_keyframe_id_ + min_keyframes)) {
       return;
     }
-    for (KeyFrame* candidate : ConsistentCandidates(keyframe)) {
-      if (Verify(keyframe, candidate, loop)) break;
+    core::Stopwatch watch;
+    const std::vector<KeyFrame*> candidates = ConsistentCandidates(keyframe);
+    std::vector<double> detection_ms = {watch.ElapsedMilliseconds()}, verification_ms;
+    for (KeyFrame* candidate : candidates) {
+      watch.Restart();
+      const bool verified = Verify(keyframe, candidate, loop);
+      verification_ms.push_back(watch.ElapsedMilliseconds());
+      if (verified) break;
+    }
+    std::lock_guard timings_lock(closures_mutex_);
+    timings_.detection_ms.insert(timings_.detection_ms.end(), detection_ms.begin(), detection_ms.end());
+    timings_.verification_ms.insert(timings_.verification_ms.end(), verification_ms.begin(), verification_ms.end());
+  }
+  if (loop.loop == nullptr) return;
+  StopGlobalBundleAdjustment();  // it refines a map about to change
+  Correct(keyframe, loop);
+  if (options_.global_bundle_adjustment) StartGlobalBundleAdjustment();
+}
+
+std::unique_lock<std::shared_mutex> LoopCloser::LockStillMap() {
+  std::unique_lock lock(map_.mutex());
+  // A keyframe tracking made just before the pause: let local mapping connect it first.
+  while (!local_mapper_.Idle()) {
+    lock.unlock();
+    local_mapper_.WaitUntilIdle();
+    lock.lock();
+  }
+  return lock;
+}
+
+void LoopCloser::StartGlobalBundleAdjustment() {
+  abort_global_ = false;
+  if (threaded_) {
+    global_thread_ = std::jthread([this] { RunGlobalBundleAdjustment(); });
+  } else {
+    RunGlobalBundleAdjustment();
+  }
+}
+
+void LoopCloser::StopGlobalBundleAdjustment() {
+  if (!global_thread_.joinable()) return;
+  abort_global_ = true;
+  global_thread_.join();
+}
+
+void LoopCloser::RunGlobalBundleAdjustment() {
+  BundleAdjustmentProblem problem;
+  std::vector<KeyFrame*> keyframes;
+  std::vector<MapPoint*> points;
+  std::unordered_map<const KeyFrame*, std::size_t> keyframe_index;
+  {
+    std::shared_lock lock(map_.mutex());
+    keyframes = map_.KeyFrames();
+    if (keyframes.size() < 2) return;
+    problem.camera = keyframes.front()->keypoints().sensor().camera;
+    for (KeyFrame* k : keyframes) {
+      keyframe_index.emplace(k, problem.T_cw.size());
+      problem.T_cw.push_back(k->T_cw());
+      problem.pose_fixed.push_back(k == map_.first_keyframe() ? 1 : 0);
+    }
+    for (MapPoint* p : map_.MapPoints()) {
+      const int index = static_cast<int>(points.size());
+      for (const MapPoint::Observation& o : p->observations()) {
+        const auto k = keyframe_index.find(o.keyframe);
+        if (k == keyframe_index.end()) continue;
+        problem.observations.push_back(
+            {static_cast<int>(k->second), index, o.keyframe->keypoints().Measurement(o.index)});
+      }
+      points.push_back(p);
+      problem.points_w.push_back(p->position());
     }
   }
-  if (loop.loop != nullptr) Correct(keyframe, loop);
+  BundleAdjustmentOptions adjustment;
+  adjustment.first_iterations = options_.global_iterations;
+  adjustment.second_iterations = 0;  // its outliers are left in the map: local mapping judges them
+  adjustment.sparse = true;
+  if (RunBundleAdjustment(problem, adjustment, &abort_global_).aborted) return;
+
+  const LocalMapper::PauseGuard pause = local_mapper_.Pause();
+  const std::unique_lock lock = LockStillMap();
+  // Each keyframe's pose before and after; keyframes made since the copy move with their parent (an older one).
+  std::unordered_map<const KeyFrame*, std::pair<core::Pose, core::Pose>> moved;
+  for (KeyFrame* k : map_.KeyFrames()) {
+    const auto index = keyframe_index.find(k);
+    if (index != keyframe_index.end()) {
+      moved.emplace(k, std::pair(k->T_cw(), problem.T_cw[index->second]));
+    } else if (const auto parent = moved.find(k->parent()); parent != moved.end()) {
+      const auto& [parent_before, parent_after] = parent->second;
+      moved.emplace(k, std::pair(k->T_cw(), k->T_cw() * parent_before.inverse() * parent_after));
+    }
+  }
+  // Points take their adjusted positions; points made since move with their reference keyframe.
+  std::unordered_map<const MapPoint*, std::size_t> point_index;
+  for (std::size_t i = 0; i < points.size(); ++i) point_index.emplace(points[i], i);
+  for (MapPoint* p : map_.MapPoints()) {
+    if (const auto index = point_index.find(p); index != point_index.end()) {
+      p->SetPosition(problem.points_w[index->second]);
+    } else if (const auto reference = moved.find(p->reference_keyframe()); reference != moved.end()) {
+      const auto& [before, after] = reference->second;
+      p->SetPosition(after.inverse() * (before * p->position()));
+    }
+  }
+  for (KeyFrame* k : map_.KeyFrames()) {
+    if (const auto m = moved.find(k); m != moved.end()) k->SetPose(m->second.second);
+  }
+  for (MapPoint* p : map_.MapPoints()) map_.UpdatePoint(p);
+  ++global_adjustments_;
+  spdlog::debug("global bundle adjustment: {} keyframes, {} points", keyframes.size(), points.size());
 }
 
 std::vector<KeyFrame*> LoopCloser::ConsistentCandidates(KeyFrame* keyframe) {
@@ -327,13 +442,7 @@ bool LoopCloser::Verify(KeyFrame* keyframe, KeyFrame* candidate, VerifiedLoop& l
 
 void LoopCloser::Correct(KeyFrame* keyframe, const VerifiedLoop& loop) {
   const LocalMapper::PauseGuard pause = local_mapper_.Pause();
-  std::unique_lock lock(map_.mutex());
-  // A keyframe tracking made just before the pause: let local mapping connect it first.
-  while (!local_mapper_.Idle()) {
-    lock.unlock();
-    local_mapper_.WaitUntilIdle();
-    lock.lock();
-  }
+  std::unique_lock lock = LockStillMap();
   KeyFrame* place = loop.loop;
   if (keyframe->bad() || place->bad()) return;
   const core::Pose T_cw_before = keyframe->T_cw();

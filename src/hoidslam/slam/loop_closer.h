@@ -12,7 +12,9 @@
 // the tracking thread calls ProcessQueue() after local mapping. A correction pauses local mapping
 // (LocalMapper::Pause; tracking makes no keyframes meanwhile), changes the neighbourhood under Map::mutex() held
 // exclusively, optimises the essential graph with no lock held, and writes the result back under the lock again,
-// so tracking waits for it no longer than a copy and a write-back take.
+// so tracking waits for it no longer than a copy and a write-back take. The global bundle adjustment that follows
+// runs in a third thread the same way: copied under the shared lock, optimised with none, written back under the
+// exclusive lock with local mapping paused.
 
 #include <atomic>
 #include <condition_variable>
@@ -21,10 +23,12 @@
 #include <mutex>
 #include <optional>
 #include <set>
+#include <shared_mutex>
 #include <thread>
 #include <vector>
 
 #include "hoidslam/core/pose.h"
+#include "hoidslam/slam/bundle_adjustment.h"
 #include "hoidslam/slam/local_mapper.h"
 #include "hoidslam/slam/map.h"
 #include "hoidslam/slam/pose_graph.h"
@@ -64,6 +68,11 @@ struct LoopClosingOptions {
   double max_neighbour_disagreement_deg = 2.0;
   PoseGraphOptions essential_graph;
   int essential_graph_min_weight = 100;  // covisibility edges at least this strong join the essential graph
+  // After each loop, a bundle adjustment of the whole map refines what the essential graph moved (ORB-SLAM's global
+  // BA): in a thread of its own, tracking and local mapping going on meanwhile; stopped early when another loop
+  // is to be corrected.
+  bool global_bundle_adjustment = true;
+  int global_iterations = 10;
 
   void Check() const;
 };
@@ -93,12 +102,22 @@ class LoopCloser {
   void Insert(KeyFrame* keyframe);
   // Processes every queued keyframe in the calling thread (the deterministic mode).
   void ProcessQueue();
-  // Runs in its own thread until Stop(); Stop() lets it finish the queued keyframes first.
+  // Runs in its own thread until Stop(); Stop() lets it finish the queued keyframes and the global bundle
+  // adjustment under way first.
   void Start();
   void Stop();
 
   // The loops closed so far, in order. Thread-safe.
   std::vector<LoopClosure> closures() const;
+  // The time each keyframe's loop detection took (ms: the database's candidates and their consistency), and each
+  // verification (ms: one per candidate verified), in order. Thread-safe.
+  struct Timings {
+    std::vector<double> detection_ms;
+    std::vector<double> verification_ms;
+  };
+  Timings timings() const;
+  // Global bundle adjustments completed (not stopped early). Thread-safe.
+  int global_adjustments() const { return global_adjustments_.load(); }
 
  private:
   // A keyframe's view of one place the database returned, with how many keyframes in a row saw it.
@@ -122,6 +141,12 @@ class LoopCloser {
   // Shared lock held.
   bool Verify(KeyFrame* keyframe, KeyFrame* candidate, VerifiedLoop& loop) const;
   void Correct(KeyFrame* keyframe, const VerifiedLoop& loop);
+  // Pauses local mapping and locks the map exclusively once local mapping stands still (LocalMapper::Pause).
+  std::unique_lock<std::shared_mutex> LockStillMap();
+  // The global bundle adjustment: in its own thread when the closer runs in one, else in the caller's.
+  void StartGlobalBundleAdjustment();
+  void StopGlobalBundleAdjustment();  // stops it early and waits for it
+  void RunGlobalBundleAdjustment();
   void Loop(std::stop_token stop);
 
   Map& map_;
@@ -136,8 +161,13 @@ class LoopCloser {
   std::vector<ConsistentGroup> consistent_groups_;
   std::optional<KeyFrameId> last_loop_keyframe_id_;
 
-  mutable std::mutex closures_mutex_;
+  mutable std::mutex closures_mutex_;  // guards closures_ and timings_
   std::vector<LoopClosure> closures_;
+  Timings timings_;
+  std::atomic<int> global_adjustments_{0};
+  std::atomic<bool> abort_global_{false};
+  bool threaded_ = false;  // Start() was called: the global adjustment gets a thread
+  std::jthread global_thread_;  // owned by the loop closing thread (started and joined there), or by Stop()
   std::jthread thread_;
 };
 

@@ -166,4 +166,6 @@ std::size_t System::NumKeyFrames() const {
 
 std::vector<LoopClosure> System::LoopClosures() const { return loop_closer_.closures(); }
 
+LoopCloser::Timings System::LoopClosingTimings() const { return loop_closer_.timings(); }
+
 }  // namespace hoidslam::slam

@@ -90,6 +90,7 @@ class System {
   std::size_t NumKeyFrames() const;
   // The loops closed so far, in order.
   std::vector<LoopClosure> LoopClosures() const;
+  LoopCloser::Timings LoopClosingTimings() const;
 
  private:
   SystemOptions options_;
