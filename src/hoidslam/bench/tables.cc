@@ -245,6 +245,26 @@ std::vector<NamedTable> BuildTables(const Plan& plan, const std::vector<RunResul
                                            "hoid3d ATE RMSE (m) by depth threshold (m)")});
   }
 
+  // A run that jumps is a failure, not noise: each cell's runs whose ATE is more than 3× the cell's median.
+  constexpr double kJumpFactor = 3.0;
+  report::Table jumps = PerMode(
+      plan, fmt::format("Runs whose ATE RMSE is more than {:g}× the median of their cell, of all", kJumpFactor),
+      [&](std::size_t s, std::size_t v) {
+        const std::optional<double> median_ate = grid.MedianOf(s, v, kAteRmse);
+        if (!median_ate) return grid.Cell(s, v, kAteRmse, Metres);  // says why not
+        std::size_t jumped = 0, runs = 0;
+        for (const RunResult* r : grid.group(s, v).ok) {
+          if (!r->ate_rmse) continue;
+          ++runs;
+          if (*r->ate_rmse > kJumpFactor * *median_ate) ++jumped;
+        }
+        return fmt::format("{} of {}{}", jumped, runs, grid.Shortfall(s, v));
+      });
+  jumps.note = RunsNote(plan, fmt::format("Of the {} runs of each cell: a run far off its cell's median lost its map "
+                                          "once (a wrong relocalisation or loop, a bad keyframe)",
+                                          plan.options.runs));
+  tables.push_back({"jumps", std::move(jumps)});
+
   tables.push_back({"rpe_translation",
                     PerMode(plan, grid, "RPE translation RMSE (m per second)",
                             [](const RunResult& r) { return r.rpe_translation_rmse; }, Metres)});
