@@ -336,7 +336,9 @@ bool LoopCloser::Verify(KeyFrame* keyframe, KeyFrame* candidate, VerifiedLoop& l
   Frame probe(keyframe->frame_id(), keyframe->timestamp(), keyframe->shared_keypoints());
   probe.T_cw = keyframe->T_cw();
   std::vector<MapPoint*> matches;
-  if (SearchByDescriptor(*candidate, probe, matches, 0.75F) < options_.min_ransac_inliers) return false;
+  if (SearchByBoW(*candidate, probe, keyframe->words().features, matches, 0.75F) < options_.min_ransac_inliers) {
+    return false;
+  }
 
   // The keyframe's side of each match in its own camera: measured by depth, or its own map point.
   const KeypointSet& keypoints = keyframe->keypoints();

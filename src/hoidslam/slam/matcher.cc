@@ -232,4 +232,50 @@ int SearchByDescriptor(const KeyFrame& keyframe, const Frame& frame, std::vector
   return static_cast<int>(std::count_if(matches.begin(), matches.end(), [](const MapPoint* p) { return p != nullptr; }));
 }
 
+int SearchByBoW(const KeyFrame& keyframe, const Frame& frame, const bow::FeatureVector& frame_features,
+                std::vector<MapPoint*>& matches, float ratio) {
+  const KeypointSet& kf = keyframe.keypoints();
+  const KeypointSet& fr = *frame.keypoints;
+  matches.assign(static_cast<std::size_t>(fr.size()), nullptr);
+  std::vector<int> taken_distance(static_cast<std::size_t>(fr.size()), std::numeric_limits<int>::max());
+  std::vector<float> angle_change(static_cast<std::size_t>(fr.size()), 0.0F);
+  const bow::FeatureVector& keyframe_features = keyframe.words().features;
+  auto a = keyframe_features.begin();
+  auto b = frame_features.begin();
+  while (a != keyframe_features.end() && b != frame_features.end()) {
+    if (a->node != b->node) {
+      (a->node < b->node ? ++a : ++b);
+      continue;
+    }
+    for (const int i : a->keypoints) {
+      MapPoint* p = keyframe.map_point(i);
+      if (p == nullptr || p->bad()) continue;
+      int best = -1, best_distance = 256, second_distance = 256;
+      for (const int j : b->keypoints) {
+        const int d = features::DescriptorDistance(kf.descriptor(i), fr.descriptor(j));
+        if (d < best_distance) {
+          second_distance = best_distance;
+          best_distance = d;
+          best = j;
+        } else if (d < second_distance) {
+          second_distance = d;
+        }
+      }
+      if (best < 0 || best_distance > kDescriptorDistanceLow ||
+          static_cast<float>(best_distance) > ratio * static_cast<float>(second_distance)) {
+        continue;
+      }
+      const auto j = static_cast<std::size_t>(best);
+      if (best_distance >= taken_distance[j]) continue;
+      matches[j] = p;
+      taken_distance[j] = best_distance;
+      angle_change[j] = kf.keypoint(i).angle - fr.keypoint(best).angle;
+    }
+    ++a;
+    ++b;
+  }
+  KeepConsistentRotations(matches, angle_change);
+  return static_cast<int>(std::count_if(matches.begin(), matches.end(), [](const MapPoint* p) { return p != nullptr; }));
+}
+
 }  // namespace hoidslam::slam

@@ -46,6 +46,17 @@ int SearchByProjection(Frame& frame, std::span<const ProjectedPoint> points, dou
 int SearchByDescriptor(const KeyFrame& keyframe, const Frame& frame, std::vector<MapPoint*>& matches,
                        float ratio = 0.7F);
 
+// The level of the vocabulary's tree whose nodes group keypoints for SearchByBoW: this many levels above the words
+// (with the shipped k 10, L 5: the 100 nodes of level 2, as ORB-SLAM's 4 levels up of its L 6). Keyframes and lost
+// frames are described with it (bow::Vocabulary::Transform).
+inline constexpr int kBowMatchingLevelsUp = 3;
+
+// Matches the keyframe's map points to the frame's keypoints as SearchByDescriptor does, but comparing only
+// keypoints under the same node of the vocabulary's tree (the keyframe's direct index, and `frame_features`, the
+// frame's, both kBowMatchingLevelsUp): ORB-SLAM's guided matching, a tenth of the comparisons.
+int SearchByBoW(const KeyFrame& keyframe, const Frame& frame, const bow::FeatureVector& frame_features,
+                std::vector<MapPoint*>& matches, float ratio = 0.7F);
+
 // Hamming distance of a map point's descriptor and keypoint i of `keypoints`.
 int DescriptorDistance(const MapPoint& point, const KeypointSet& keypoints, int i);
 

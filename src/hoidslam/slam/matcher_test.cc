@@ -4,7 +4,9 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <limits>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <numbers>
@@ -293,6 +295,35 @@ TEST_F(MatcherTest, SearchByDescriptorMatchesByDescriptorAlone) {
   EXPECT_EQ(matches[static_cast<std::size_t>(decoy_)], points_[static_cast<std::size_t>(outside_)]);
   matches[static_cast<std::size_t>(decoy_)] = nullptr;
   ExpectTrueMatches(matches);
+}
+
+// The direct index of n keypoints: keypoint i under node node_of(i).
+bow::FeatureVector DirectIndex(int n, const std::function<bow::NodeId(int)>& node_of) {
+  std::map<bow::NodeId, std::vector<int>> nodes;
+  for (int i = 0; i < n; ++i) nodes[node_of(i)].push_back(i);
+  bow::FeatureVector features;
+  for (auto& [node, keypoints] : nodes) features.push_back({node, std::move(keypoints)});
+  return features;
+}
+
+TEST_F(MatcherTest, SearchByBoWComparesOnlyKeypointsUnderTheSameNode) {
+  ASSERT_NO_FATAL_FAILURE(Build());
+  map_.IndexKeyFrame(keyframe_a_, {{}, DirectIndex(set_a_->size(), [](int) { return 5U; })});
+  // Every keypoint of both under one node: the same matches as comparing every descriptor.
+  std::vector<MapPoint*> all, guided;
+  SearchByDescriptor(*keyframe_a_, CurrentFrame(), all);
+  EXPECT_EQ(SearchByBoW(*keyframe_a_, CurrentFrame(), DirectIndex(set_b_->size(), [](int) { return 5U; }), guided),
+            num_visible_ + 1);
+  EXPECT_EQ(guided, all);
+  // The frame's odd keypoints under another node: only its even ones are matched, each to what it was before.
+  const int matched = SearchByBoW(*keyframe_a_, CurrentFrame(),
+                                  DirectIndex(set_b_->size(), [](int j) { return j % 2 == 0 ? 5U : 6U; }), guided);
+  EXPECT_GT(matched, 0);
+  EXPECT_LT(matched, num_visible_);
+  for (std::size_t j = 0; j < guided.size(); ++j) {
+    if (j % 2 == 1) EXPECT_EQ(guided[j], nullptr) << j;
+    if (guided[j] != nullptr) EXPECT_EQ(guided[j], all[j]) << j;
+  }
 }
 
 TEST_F(MatcherTest, SearchByDescriptorRejectsAmbiguousMatches) {

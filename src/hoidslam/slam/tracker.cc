@@ -566,7 +566,7 @@ TrackingFailure Tracker::Relocalize(Frame& frame) {
     consider(reference_keyframe_);
     for (KeyFrame* neighbour : reference_keyframe_->BestCovisibles(10)) consider(neighbour);
   }
-  const bow::ImageWords words = vocabulary_.Transform(keypoints.descriptors(), 0);
+  const bow::ImageWords words = vocabulary_.Transform(keypoints.descriptors(), kBowMatchingLevelsUp);
   for (KeyFrame* keyframe : map_.database().RelocalizationCandidates(
            words.bow, static_cast<std::size_t>(options_.relocalization_candidates))) {
     consider(keyframe);
@@ -576,7 +576,11 @@ TrackingFailure Tracker::Relocalize(Frame& frame) {
   std::vector<std::pair<int, std::size_t>> ranked;  // (matches, index into candidates)
   std::vector<std::vector<MapPoint*>> candidate_matches(candidates.size());
   for (std::size_t c = 0; c < candidates.size(); ++c) {
-    const int matches = SearchByDescriptor(*candidates[c], frame, candidate_matches[c], 0.75F);
+    // Guided by the vocabulary's tree; a keyframe local mapping has not described yet, by every descriptor.
+    const KeyFrame& candidate = *candidates[c];
+    const int matches = candidate.words().features.empty()
+                            ? SearchByDescriptor(candidate, frame, candidate_matches[c], 0.75F)
+                            : SearchByBoW(candidate, frame, words.features, candidate_matches[c], 0.75F);
     if (matches >= kMinDescriptorMatches) ranked.emplace_back(matches, c);
   }
   std::stable_sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
