@@ -13,8 +13,7 @@
 #include "hoidslam/core/error.h"
 #include "hoidslam/detect/file_detector.h"
 #include "hoidslam/io/trajectory_file.h"
-#include "hoidslam/synth/scenario.h"
-#include "hoidslam/synth/sequence_writer.h"
+#include "hoidslam/synth/test_scenarios.h"
 #include "support/shared_data.h"
 #include "support/temp_dir.h"
 
@@ -23,18 +22,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A short synthetic walking sequence (people carrying things, the real TUM camera path), written once per test:
-// every 4th frame, so that people are in view from about the 25th frame on.
 fs::path RenderWalking(const testing::TempDir& dir, const fs::path& tum_dir, std::size_t frames) {
-  constexpr int kStep = 4;
-  synth::Scenario scenario = synth::LoadScenario("walking_xyz");
-  scenario.max_frames = frames * kStep;
-  synth::SynthOptions options;
-  options.out = dir / "walking_xyz";
-  options.tum_dir = tum_dir;
-  options.frame_step = kStep;
-  synth::WriteSequence(scenario, options);
-  return options.out;
+  return synth::fixtures::RenderShortWalk(dir / "walking_xyz", tum_dir, frames);
 }
 
 std::vector<nlohmann::json> ReadLog(const fs::path& path) {

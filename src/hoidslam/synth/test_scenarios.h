@@ -4,9 +4,12 @@
 
 #include <fmt/format.h>
 
+#include <cstddef>
+#include <filesystem>
 #include <string>
 
 #include "hoidslam/synth/scenario.h"
+#include "hoidslam/synth/sequence_writer.h"
 
 namespace hoidslam::synth::fixtures {
 
@@ -25,5 +28,20 @@ inline Scenario SmallScenario(const std::string& people_json, int frames = 12, c
 // One person who walks across the view close to the camera for about 1.1 s, then stands still.
 inline const char* kWalkThenStop = R"([{"name": "walker", "start": [3.2, 2.4], "facing_deg": 0,
   "actions": [{"action": "walk_to", "to": [4.4, 2.4]}, {"action": "stop", "duration": 5}]}])";
+
+// A short walking_xyz sequence (people carrying things on the real TUM camera path of `tum_dir`) of `frames`
+// frames in `folder`: every 4th frame, so that people are in view from about the 25th frame on. Returns `folder`.
+inline std::filesystem::path RenderShortWalk(const std::filesystem::path& folder, const std::filesystem::path& tum_dir,
+                                             std::size_t frames) {
+  constexpr int kStep = 4;
+  Scenario scenario = LoadScenario("walking_xyz");
+  scenario.max_frames = frames * kStep;
+  SynthOptions options;
+  options.out = folder;
+  options.tum_dir = tum_dir;
+  options.frame_step = kStep;
+  WriteSequence(scenario, options);
+  return folder;
+}
 
 }  // namespace hoidslam::synth::fixtures

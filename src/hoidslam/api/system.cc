@@ -1,0 +1,228 @@
+// The public API's System: the caller's buffers wrapped as a frame (no copy where the layout allows), handed to
+// the per-frame work `hoidslam run` does (pipeline::Session), the outcome translated into the API's plain types.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <string>
+
+#include <fmt/format.h>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "hoidslam/hoidslam.h"
+#include "hoidslam/api/convert.h"
+#include "hoidslam/detect/make_detector.h"
+#include "hoidslam/io/settings.h"
+#include "hoidslam/pipeline/run.h"
+#include "hoidslam/pipeline/session.h"
+
+namespace hoidslam {
+namespace {
+
+pipeline::RunOptions ToRunOptions(const Options& options, const io::Settings& settings) {
+  pipeline::RunOptions run = pipeline::RunOptions::FromSettings(settings);
+  if (!options.filter.empty()) pipeline::SetFilterMode(options.filter, run.exclusion, "filter");
+  if (run.exclusion.oracle) {
+    throw InputError::ForParameter("filter", "oracle needs a synthetic sequence's moving masks; use hoidslam run");
+  }
+  run.keypoint_budget = pipeline::ParseKeypointBudget(options.keypoint_budget, "keypoint_budget");
+  run.system.deterministic = options.deterministic;
+  if (!options.vocabulary.empty()) run.system.vocabulary = options.vocabulary;
+  run.realtime.enabled = options.realtime;
+  run.snapshots = 0;
+  if (options.detector == DetectorKind::kNone && run.exclusion.NeedsDetections()) {
+    throw InputError::ForParameter(
+        "detector", fmt::format("filter {} needs detections: give them per frame (DetectorKind::kGiven), a model "
+                                "(kOnnx), or use filter none",
+                                run.exclusion.ModeName()));
+  }
+  run.Check();
+  return run;
+}
+
+std::unique_ptr<detect::Detector> MakeDetector(const Options& options) {
+  if (options.detector != DetectorKind::kOnnx) {
+    if (!options.model.empty()) {
+      throw InputError::ForParameter("model", "a model is run only with the ONNX detector (DetectorKind::kOnnx)");
+    }
+    return nullptr;
+  }
+  if (options.model.empty()) throw InputError::ForParameter("model", "the ONNX detector needs a model file");
+  detect::DetectorOptions detector;
+  detector.kind = detect::DetectorKind::kOnnx;
+  detector.onnx.model = options.model;
+  return detect::MakeDetector(detector);
+}
+
+Matrix4 ToMatrix(const core::Pose& pose) {
+  Matrix4 m{};
+  const Eigen::Matrix4d matrix = pose.matrix();
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) m[static_cast<std::size_t>(4 * r + c)] = matrix(r, c);
+  }
+  return m;
+}
+
+std::vector<StampedPose> ToStampedPoses(const core::Trajectory& trajectory) {
+  std::vector<StampedPose> poses;
+  poses.reserve(trajectory.size());
+  for (const core::StampedPose& p : trajectory) poses.push_back(api::ToStampedPose(p));
+  return poses;
+}
+
+// The dynamic box that dropped a keypoint: the first that holds it, else the one whose edge is nearest.
+int DroppingBox(const cv::KeyPoint& keypoint, const hoid::JudgedBoxes& boxes) {
+  int nearest = -1;
+  float nearest_distance = std::numeric_limits<float>::infinity();
+  for (std::size_t i = 0; i < boxes.detections.size(); ++i) {
+    if (!boxes.decisions[i].dynamic) continue;
+    const cv::Rect2f& box = boxes.detections[i].box;
+    const float dx = std::max({box.x - keypoint.pt.x, 0.0F, keypoint.pt.x - (box.x + box.width)});
+    const float dy = std::max({box.y - keypoint.pt.y, 0.0F, keypoint.pt.y - (box.y + box.height)});
+    const float distance = dx * dx + dy * dy;
+    if (distance == 0.0F) return static_cast<int>(i);
+    if (distance < nearest_distance) {
+      nearest_distance = distance;
+      nearest = static_cast<int>(i);
+    }
+  }
+  return nearest;
+}
+
+FrameResult ToFrameResult(std::size_t index, double timestamp, const pipeline::FrameOutcome& outcome) {
+  FrameResult r;
+  r.index = index;
+  r.timestamp = timestamp;
+  const slam::TrackResult& track = outcome.result;
+  r.state = track.T_cw                                              ? TrackingState::kOk
+            : track.state == slam::TrackingState::kNotInitialized ? TrackingState::kNotInitialized
+                                                                    : TrackingState::kLost;
+  if (track.T_cw) r.T_wc = ToMatrix(track.T_cw->inverse());
+  r.method = slam::ToString(track.method);
+  if (track.failure != slam::TrackingFailure::kNone) r.failure = slam::ToString(track.failure);
+  r.keyframe = track.keyframe;
+  r.boxes = api::ToJudgedBoxes(outcome.boxes);
+  const std::vector<cv::KeyPoint>& keypoints = outcome.features.keypoints;
+  r.keypoints.xy.resize(2 * keypoints.size());
+  r.keypoints.kept.assign(outcome.keep.begin(), outcome.keep.end());
+  r.keypoints.box.assign(keypoints.size(), -1);
+  for (std::size_t i = 0; i < keypoints.size(); ++i) {
+    r.keypoints.xy[2 * i] = keypoints[i].pt.x;
+    r.keypoints.xy[2 * i + 1] = keypoints[i].pt.y;
+    if (outcome.keep[i] == 0) r.keypoints.box[i] = DroppingBox(keypoints[i], outcome.boxes);
+  }
+  r.extracted = outcome.extracted;
+  r.dropped = outcome.dropped;
+  r.matched = track.matched;
+  r.inliers = track.inliers;
+  const pipeline::StageTimes& t = outcome.times;
+  r.milliseconds = t.extract + t.detect + t.filter + t.track;
+  return r;
+}
+
+}  // namespace
+
+std::string_view ToString(TrackingState state) {
+  switch (state) {
+    case TrackingState::kOk: return "ok";
+    case TrackingState::kLost: return "lost";
+    case TrackingState::kNotInitialized: return "not_initialized";
+  }
+  return "unknown";
+}
+
+std::string_view FrameResult::DropReason(std::size_t i) const {
+  if (i >= keypoints.size() || keypoints.kept[i] != 0) return {};
+  const int b = keypoints.box[i];
+  return b < 0 ? std::string_view("mask") : std::string_view(boxes[static_cast<std::size_t>(b)].reason);
+}
+
+class System::Impl {
+ public:
+  explicit Impl(const Options& options)
+      : settings_(options.settings.empty() ? io::Settings{} : io::LoadSettings(options.settings)),
+        detector_(MakeDetector(options)),
+        session_(ToRunOptions(options, settings_), detector_.get(), {}),
+        realtime_(options.realtime),
+        given_(options.detector == DetectorKind::kGiven) {}
+
+  FrameResult Track(const ImageView& rgb, const ImageView& depth, double timestamp,
+                    std::span<const Detection> detections) {
+    if (!std::isfinite(timestamp)) throw InputError::ForParameter("timestamp", "must be a finite number of seconds");
+    if (index_ > 0 && !(timestamp > last_timestamp_)) {
+      throw InputError::ForParameter(
+          "timestamp", fmt::format("frames must come in time order: {:.6f} s after {:.6f} s", timestamp,
+                                   last_timestamp_));
+    }
+    if (!given_ && !detections.empty()) {
+      throw InputError::ForParameter("detections", "the system runs its own detector: pass no detections");
+    }
+    const core::CameraIntrinsics& camera = session_.options().system.camera;
+    core::RgbdFrame frame;
+    frame.timestamp = timestamp;
+    frame.rgb = api::ColourMat(rgb, camera.width, camera.height, "rgb");
+    frame.depth = api::DepthMetres(depth, camera.width, camera.height, settings_.depth_map_factor, "depth");
+    // The detector thread reads the image after Track returns, when the caller may already reuse the buffer.
+    if (realtime_ && frame.rgb.data == rgb.data) frame.rgb = frame.rgb.clone();
+    std::optional<std::vector<core::Detection>> boxes;
+    if (given_) boxes = api::ToCoreDetections(detections, "detections");
+    const pipeline::FrameOutcome& outcome = session_.Track(index_, frame, boxes ? &*boxes : nullptr);
+    last_timestamp_ = timestamp;
+    return ToFrameResult(index_++, timestamp, outcome);
+  }
+
+  pipeline::Session& session() { return session_; }
+  const io::Settings& settings() const { return settings_; }
+
+ private:
+  io::Settings settings_;
+  std::unique_ptr<detect::Detector> detector_;  // before the session, whose detector thread uses it
+  pipeline::Session session_;
+  bool realtime_;
+  bool given_;
+  std::size_t index_ = 0;
+  double last_timestamp_ = 0.0;
+};
+
+System::System(const Options& options) : impl_(std::make_unique<Impl>(options)) {}
+System::~System() = default;
+System::System(System&&) noexcept = default;
+System& System::operator=(System&&) noexcept = default;
+
+FrameResult System::Track(const ImageView& rgb, const ImageView& depth, double timestamp,
+                          std::span<const Detection> detections) {
+  return impl_->Track(rgb, depth, timestamp, detections);
+}
+
+void System::Finish() { impl_->session().Finish(); }
+
+std::vector<StampedPose> System::Trajectory() const {
+  return ToStampedPoses(impl_->session().system().FrameTrajectory());
+}
+
+std::vector<StampedPose> System::KeyFrames() const {
+  return ToStampedPoses(impl_->session().system().KeyFrameTrajectory());
+}
+
+std::vector<MapPoint> System::MapPoints() const {
+  std::vector<MapPoint> points;
+  for (const slam::MapPointSample& p : impl_->session().system().MapPoints()) {
+    points.push_back({{p.position.x(), p.position.y(), p.position.z()}, {p.color[2], p.color[1], p.color[0]},
+                      p.observations});
+  }
+  return points;
+}
+
+void System::Save(const std::filesystem::path& folder) {
+  Finish();
+  std::filesystem::create_directories(folder);
+  impl_->session().WriteOutputs(folder);
+}
+
+int System::width() const { return impl_->session().options().system.camera.width; }
+int System::height() const { return impl_->session().options().system.camera.height; }
+double System::depth_factor() const { return impl_->settings().depth_map_factor; }
+std::string System::filter() const { return impl_->session().options().exclusion.ModeName(); }
+
+}  // namespace hoidslam

@@ -1,0 +1,204 @@
+#pragma once
+// hoidslam as a library: RGB-D SLAM that drops the features of people and of the objects in their hands (HOID)
+// inside your own program. Frames come in as plain buffers (width, height, stride, format) from any source: a
+// camera SDK, a recording, a renderer. Poses, tracking states and every keypoint's verdict come out. No OpenCV type
+// is needed here; hoidslam/hoidslam_opencv.h adds overloads that take cv::Mat.
+//
+//   hoidslam::System slam({.settings = "TUM3.yaml", .filter = "hoid2d"});
+//   hoidslam::FrameResult r = slam.Track(rgb, depth, timestamp, detections);
+//   if (r.T_wc) use(*r.T_wc);
+//   slam.Finish();
+//   slam.Save("out/");
+//
+// Every frame goes through what `hoidslam run` does to a frame of a recording (pipeline/session.h), so the same
+// frames give the same trajectory; in the deterministic mode it is byte-identical to the command's. Errors are
+// exceptions: hoidslam::InputError (a std::runtime_error) for bad input, with a message naming the parameter or
+// file, as the command prints it. docs/library.md describes the API.
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "hoidslam/core/error.h"
+
+namespace hoidslam {
+
+using core::Error;       // base of every hoidslam error
+using core::InputError;  // bad input: the message names the parameter, or the file and line
+
+// How the bytes of an image are laid out.
+enum class PixelFormat {
+  kBgr,   // colour, 8 bits a channel, blue first (OpenCV's order)
+  kRgb,   // colour, 8 bits a channel, red first (most camera SDKs, PIL, matplotlib)
+  kGray,  // 8 bits
+  // Depth: 16-bit unsigned units of 1 / depth_factor metres (TUM, Kinect, RealSense: DepthMapFactor of the
+  // settings). 0 means no measurement.
+  kDepthUint16,
+  kDepthFloat32,  // depth: 32-bit float metres; 0 and non-finite mean no measurement
+};
+
+// An image the caller owns: read, never kept past the call (but see Options::realtime).
+struct ImageView {
+  const void* data = nullptr;
+  int width = 0;
+  int height = 0;
+  std::size_t stride = 0;  // bytes from one row to the next; 0: rows packed
+  PixelFormat format = PixelFormat::kBgr;
+};
+
+// An axis-aligned box in pixels: top-left corner, width and height.
+struct Box {
+  float x = 0.0F, y = 0.0F, width = 0.0F, height = 0.0F;
+};
+
+// One object a detector found in a frame. The filter matches classes by label (COCO names: "person", "cup", ...).
+struct Detection {
+  std::string label;
+  float score = 1.0F;
+  Box box;
+  int class_id = -1;  // index in the detector's class list, -1 if unknown
+};
+
+// The filter's verdict on one box (docs/hoid.md).
+struct JudgedBox {
+  Detection detection;
+  bool dynamic = false;  // its features are dropped
+  std::string reason;    // why: "person", "interaction", "no_interaction", "depth_rejected", ...
+  int person = -1;       // for a handled object: the index of its person's box in the same list
+  float interaction = 0.0F;  // area(object ∩ person) / area(object) with that person
+};
+
+// Which detector gives the boxes each frame is judged by.
+enum class DetectorKind {
+  kGiven,  // the caller passes each frame's detections to Track (its own model, a file, a tracker)
+  kOnnx,   // a YOLO-family ONNX model run inside hoidslam (Options::model)
+  kNone,   // no boxes: only filter "none" (the plain baseline) runs without them
+};
+
+struct Options {
+  // ORB-SLAM3-style YAML with a HOID section (e.g. config/TUM3.yaml); empty: the TUM fr3 camera
+  // and the default ORB and HOID settings.
+  std::filesystem::path settings;
+  // What is dropped, as `hoidslam run --filter` takes it: none, person, classes, hoid2d, hoid3d, hoidplus (or
+  // hoidplus:depth+memory...); empty: HOID.mode of the settings, else hoidplus.
+  std::string filter;
+  DetectorKind detector = DetectorKind::kGiven;
+  std::filesystem::path model;  // the ONNX model of DetectorKind::kOnnx
+  // The detector in its own thread: tracking never waits for it, each frame is judged by the newest detections,
+  // carried to it (docs/realtime.md); the colour image is then copied, since the detector reads it after Track
+  // returns. Off: each frame waits for its own detections.
+  bool realtime = false;
+  // Local mapping in step with tracking: the same frames give a byte-identical trajectory on every run. Cannot go
+  // with realtime.
+  bool deterministic = false;
+  // Where a frame's keypoint budget goes: "static" (to what the filter keeps) or "image" (as ORB-SLAM spreads it).
+  std::string keypoint_budget = "static";
+  std::filesystem::path vocabulary;  // bag-of-words vocabulary for relocalisation; empty: the shipped one
+};
+
+// A camera pose at a time: camera to world, as a row of a TUM trajectory file.
+struct StampedPose {
+  double timestamp = 0.0;
+  std::array<double, 3> translation{};      // metres
+  std::array<double, 4> rotation{0, 0, 0, 1};  // unit quaternion x, y, z, w
+};
+
+// A 4×4 rigid transform, row-major.
+using Matrix4 = std::array<double, 16>;
+
+enum class TrackingState {
+  kOk,              // tracked: FrameResult::T_wc holds the pose
+  kLost,            // after initialisation, not tracked (FrameResult::failure says why)
+  kNotInitialized,  // before the map could start (too few keypoints with depth)
+};
+std::string_view ToString(TrackingState state);
+
+// The keypoints of a frame and their verdicts, one entry per keypoint in each vector (structure of arrays, so
+// that numpy can take them as they are).
+struct Keypoints {
+  std::vector<float> xy;           // x0, y0, x1, y1, ... pixels
+  std::vector<std::uint8_t> kept;  // 1: used for tracking; 0: dropped by the filter
+  // A dropped keypoint's dynamic box (index into FrameResult::boxes): the first that holds it, else the nearest
+  // (hoidplus grows boxes a little); -1 for a kept one, and for one dropped by no box (the oracle's mask).
+  std::vector<int> box;
+
+  std::size_t size() const { return kept.size(); }
+};
+
+// What one frame went through.
+struct FrameResult {
+  std::size_t index = 0;  // frames count from 0
+  double timestamp = 0.0;
+  TrackingState state = TrackingState::kNotInitialized;
+  std::optional<Matrix4> T_wc;  // camera to world, when tracked
+  std::string method;   // how the pose was found: initialization, motion_model, reference_keyframe, relocalization, none
+  std::string failure;  // why a lost frame was lost: too_few_keypoints, too_few_matches, pose_rejected; else empty
+  bool keyframe = false;
+  std::vector<JudgedBox> boxes;  // every box judged, with the verdict
+  Keypoints keypoints;
+  std::size_t extracted = 0;  // keypoints of the first extraction, over the whole image
+  std::size_t dropped = 0;    // of those, dropped by the filter
+  int matched = 0;            // keypoints matched to map points before the final pose optimisation
+  int inliers = 0;            // of those, kept by it
+  double milliseconds = 0.0;  // extraction, detections, filter and tracking of this frame
+
+  // Why keypoint `i` was dropped: its box's reason, "mask" for one dropped by no box; empty when it was kept.
+  std::string_view DropReason(std::size_t i) const;
+};
+
+// A map point: position (metres, world frame), colour where first seen, and how many keyframes see it.
+struct MapPoint {
+  std::array<double, 3> position{};
+  std::array<std::uint8_t, 3> rgb{};
+  int observations = 0;
+};
+
+// One SLAM session: frames in, in time order; poses, trajectory and map out. Not copyable; movable. Tracking runs
+// on the caller's thread (local mapping, and with Options::realtime the detector, in threads of their own).
+class System {
+ public:
+  // Throws InputError naming the parameter or file: an unreadable settings file, an unknown filter, a filter that
+  // needs boxes with DetectorKind::kNone, a missing model, realtime with deterministic.
+  explicit System(const Options& options);
+  ~System();
+  System(System&&) noexcept;
+  System& operator=(System&&) noexcept;
+
+  // Tracks the next frame: `rgb` in a colour (or grey) format, `depth` in a depth format, both of the camera's size
+  // (width(), height()). With
+  // DetectorKind::kGiven the filter judges `detections` (boxes in pixels of `rgb`); with kOnnx the model's boxes
+  // are used and `detections` must be empty. Throws InputError naming rgb, depth, timestamp or detections for a
+  // bad argument, and core::Error after Finish.
+  FrameResult Track(const ImageView& rgb, const ImageView& depth, double timestamp,
+                    std::span<const Detection> detections = {});
+
+  // Lets local mapping finish and stops it (and the detector thread): the trajectory and map are final.
+  // Idempotent; the destructor calls it.
+  void Finish();
+
+  // Every tracked frame, placed relative to its reference keyframe as the map has it now (final after Finish).
+  std::vector<StampedPose> Trajectory() const;
+  std::vector<StampedPose> KeyFrames() const;
+  std::vector<MapPoint> MapPoints() const;
+  // Writes trajectory.txt, keyframes.txt and map.ply into `folder` (created when missing), each complete or
+  // absent: the files `hoidslam run` writes. Finishes first.
+  void Save(const std::filesystem::path& folder);
+
+  int width() const;   // the camera's image size (Camera.width, Camera.height of the settings)
+  int height() const;
+  double depth_factor() const;  // DepthMapFactor: units of uint16 depth per metre
+  std::string filter() const;   // the filter mode, as Options::filter names it
+
+ private:
+  class Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace hoidslam
