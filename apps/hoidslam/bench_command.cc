@@ -13,6 +13,7 @@
 #include "commands.h"
 #include "hoidslam/bench/bench.h"
 #include "hoidslam/core/error.h"
+#include "hoidslam/core/shipped_dir.h"
 #include "hoidslam/core/interrupt.h"
 
 namespace hoidslam::apps {
@@ -86,7 +87,7 @@ void RunBenchCommand(const BenchArgs& args) {
   if (request.scenarios == std::vector<std::string>{"none"}) request.scenarios.clear();
   for (const std::string& folder : args.folders) request.folders.emplace_back(folder);
   request.settings = args.settings;
-  request.config_dir = HOIDSLAM_CONFIG_DIR;
+  request.config_dir = core::ShippedDir() / "config";
   request.sequences_dir = args.sequences_dir;
   request.folder = fs::absolute(args.out);
   request.binary = SelfPath();

@@ -8,6 +8,7 @@
 
 #include "commands.h"
 #include "hoidslam/core/error.h"
+#include "hoidslam/version.h"
 
 int main(int argc, char** argv) {
   // Logs and errors go to stderr, results to stdout. "error: <file>:<line>: <what>": one plain line a user can
@@ -16,6 +17,7 @@ int main(int argc, char** argv) {
   spdlog::set_pattern("%^%l%$: %v");
   CLI::App app{"hoidslam: RGB-D SLAM in scenes where people walk and move things (HOID method)"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", "hoidslam " HOIDSLAM_VERSION);
   bool verbose = false;
   app.add_flag("-v,--verbose", verbose, "Log debugging details");
   app.parse_complete_callback([&verbose] {

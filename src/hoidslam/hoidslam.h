@@ -33,6 +33,14 @@ namespace hoidslam {
 using core::Error;       // base of every hoidslam error
 using core::InputError;  // bad input: the message names the parameter, or the file and line
 
+// The library's version, "major.minor.patch" (HOIDSLAM_VERSION of hoidslam/version.h is the headers').
+std::string Version();
+
+// Where hoidslam's shipped files are: the settings (config/TUM1.yaml, TUM2, TUM3, Bonn) and the bag-of-words
+// vocabulary (data/vocabulary/). <prefix>/share/hoidslam in an installed package, else the source tree it was built
+// from.
+std::filesystem::path ShippedDir();
+
 // How the bytes of an image are laid out.
 enum class PixelFormat {
   kBgr,   // colour, 8 bits a channel, blue first (OpenCV's order)
@@ -83,7 +91,7 @@ enum class DetectorKind {
 };
 
 struct Options {
-  // ORB-SLAM3-style YAML with a HOID section (e.g. config/TUM3.yaml); empty: the TUM fr3 camera
+  // ORB-SLAM3-style YAML with a HOID section (e.g. ShippedDir() / "config/TUM3.yaml"); empty: the TUM fr3 camera
   // and the default ORB and HOID settings.
   std::filesystem::path settings;
   // What is dropped, as `hoidslam run --filter` takes it: none, person, classes, hoid2d, hoid3d, hoidplus (or

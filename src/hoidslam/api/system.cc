@@ -11,7 +11,9 @@
 #include <opencv2/imgproc.hpp>
 
 #include "hoidslam/hoidslam.h"
+#include "hoidslam/version.h"
 #include "hoidslam/api/convert.h"
+#include "hoidslam/core/shipped_dir.h"
 #include "hoidslam/detect/make_detector.h"
 #include "hoidslam/io/settings.h"
 #include "hoidslam/pipeline/run.h"
@@ -122,6 +124,10 @@ FrameResult ToFrameResult(std::size_t index, double timestamp, const pipeline::F
 }
 
 }  // namespace
+
+std::string Version() { return HOIDSLAM_VERSION; }
+
+std::filesystem::path ShippedDir() { return core::ShippedDir(); }
 
 std::string_view ToString(TrackingState state) {
   switch (state) {

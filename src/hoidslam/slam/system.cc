@@ -7,10 +7,11 @@
 #include <opencv2/imgproc.hpp>
 
 #include "hoidslam/core/error.h"
+#include "hoidslam/core/shipped_dir.h"
 
 namespace hoidslam::slam {
 
-std::filesystem::path ShippedVocabulary() { return HOIDSLAM_SHIPPED_VOCABULARY; }
+std::filesystem::path ShippedVocabulary() { return core::ShippedDir() / "data" / "vocabulary" / "orb-k10-l5.hbow"; }
 
 void SystemOptions::Check() const {
   if (!(bf > 0.0)) throw core::InputError::ForParameter("Camera.bf", fmt::format("must be > 0, got {}", bf));

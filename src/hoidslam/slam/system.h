@@ -26,7 +26,7 @@
 
 namespace hoidslam::slam {
 
-// The vocabulary shipped with hoidslam (data/vocabulary), where the build found it.
+// The vocabulary shipped with hoidslam (data/vocabulary of core::ShippedDir).
 std::filesystem::path ShippedVocabulary();
 
 struct SystemOptions {
