@@ -39,7 +39,7 @@ write_basic_package_version_file(${PROJECT_BINARY_DIR}/hoidslamConfigVersion.cma
 install(FILES ${PROJECT_BINARY_DIR}/hoidslamConfig.cmake ${PROJECT_BINARY_DIR}/hoidslamConfigVersion.cmake
         DESTINATION ${config_dir})
 
-if(HOIDSLAM_BUILD_TESTS)
+if(HOIDSLAM_BUILD_TESTS AND HOIDSLAM_TEST_INSTALL)
   # Installs into a fresh prefix and builds and runs examples/cpp against it (about half a minute).
   add_test(NAME install.PackageBuildsAndRunsAConsumer
            COMMAND ${PROJECT_SOURCE_DIR}/scripts/check-install.sh ${PROJECT_BINARY_DIR})

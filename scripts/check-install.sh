@@ -3,7 +3,7 @@
 # command's --version, the shipped files where the installed library looks for them, and the C++ example of
 # examples/cpp configured against the prefix (find_package(hoidslam)), built, and run on a short synthetic
 # sequence the installed command renders. CTest runs it as install.PackageBuildsAndRunsAConsumer (so
-# scripts/test.sh and CI do, on their clean clone). Exit status 77: shared data missing outside CI (skipped).
+# scripts/test.sh and CI do, on their clean clone); then the installed Python module. Exit status 77: shared data missing outside CI (skipped).
 #
 #   scripts/check-install.sh [BUILD_DIR]
 set -euo pipefail
@@ -34,4 +34,17 @@ cmake --build "$work/example" >/dev/null
 grep -qx "shipped files: $prefix/share/hoidslam" "$work/log.txt" || { echo "not the installed shipped files"; exit 1; }
 grep -q "^12 of 12 frames tracked" "$work/log.txt"
 [[ -s "$work/out/trajectory.txt" && -s "$work/out/map.ply" ]]
+
+# The Python module from the prefix (Debian's python3 finds <prefix>/lib/python3/dist-packages by itself for
+# /usr/local; elsewhere PYTHONPATH names it), over the installed libhoidslam.so and shipped files.
+PYTHONPATH="$prefix/lib/python3/dist-packages" /usr/bin/python3 - "$prefix" "$work/walk" <<'PYTHON'
+import sys
+import hoidslam
+prefix, walk = sys.argv[1:]
+assert hoidslam.__file__.startswith(prefix), hoidslam.__file__
+assert str(hoidslam.shipped_dir()) == prefix + "/share/hoidslam", hoidslam.shipped_dir()
+slam = hoidslam.System(filter="none")
+states = [slam.track(f.rgb, f.depth, f.timestamp).state for f in hoidslam.Sequence(walk)]
+assert states == ["ok"] * 12, states
+PYTHON
 echo "installed package: OK ($prefix)"

@@ -22,6 +22,8 @@ packages=(
   libcli11-dev nlohmann-json3-dev libspdlog-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   chromium parallel
+  # the Python module (python/) and its tests and examples
+  python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib
   # scripts/sanitize.sh and scripts/fuzz.sh: clang with the sanitizer and libFuzzer runtimes, llvm-symbolizer, lld
   clang-14 libclang-rt-14-dev llvm-14 lld-14
 )

@@ -209,4 +209,123 @@ class System {
   std::unique_ptr<Impl> impl_;
 };
 
+// A recorded frame, owning its images.
+struct Frame {
+  double timestamp = 0.0;
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint8_t> rgb;  // height × width × 3, BGR, rows packed
+  std::vector<float> depth;       // height × width, metres, 0 where the sensor gave none
+  std::string rgb_path;           // where the colour image came from
+};
+
+// A recorded sequence: a TUM RGB-D or Bonn download, or a folder `hoidslam synth` wrote (rgb.txt, depth.txt,
+// optional associations and groundtruth.txt; docs/slam.md). Frames are read on demand.
+class Sequence {
+ public:
+  // `depth_factor`: depth PNG units per metre (DepthMapFactor; 5000 for TUM and Bonn). Throws InputError naming
+  // the file when the folder is not a sequence.
+  explicit Sequence(const std::filesystem::path& folder, double depth_factor = 5000.0);
+  ~Sequence();
+  Sequence(Sequence&&) noexcept;
+  Sequence& operator=(Sequence&&) noexcept;
+
+  std::size_t size() const;
+  std::string name() const;  // the folder's name
+  std::filesystem::path root() const;
+  // Frame `index` (< size(); InputError naming index otherwise, or the image file that cannot be read).
+  Frame Load(std::size_t index) const;
+  std::vector<double> Timestamps() const;
+  std::vector<StampedPose> Groundtruth() const;  // groundtruth.txt, empty when there is none
+
+ private:
+  class Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// A detections file (docs/detections-file.md): the boxes of any detector for a whole sequence, by timestamp, as
+// `hoidslam detect` or any other tool writes them.
+class DetectionsFile {
+ public:
+  // Throws InputError naming the file and line.
+  explicit DetectionsFile(const std::filesystem::path& path);
+  ~DetectionsFile();
+  DetectionsFile(DetectionsFile&&) noexcept;
+  DetectionsFile& operator=(DetectionsFile&&) noexcept;
+  // The detections of the frame at `timestamp` (within a microsecond), nullopt when the file has no such frame.
+  std::optional<std::vector<Detection>> Find(double timestamp) const;
+  std::size_t size() const;  // frames
+
+ private:
+  class Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// A YOLO-family ONNX model (YOLOX, YOLOv5, YOLOv8, YOLO11; the layout is recognised) run by OpenCV (docs/detectors.md).
+class Detector {
+ public:
+  // Throws InputError naming the model file when it cannot be loaded, or the parameter out of range.
+  explicit Detector(const std::filesystem::path& model, float confidence = 0.25F, float nms = 0.45F);
+  ~Detector();
+  Detector(Detector&&) noexcept;
+  Detector& operator=(Detector&&) noexcept;
+  // The detections in a colour image (boxes in its pixels, best score first). Throws InputError naming rgb.
+  std::vector<Detection> Detect(const ImageView& rgb);
+  std::string Name() const;
+
+ private:
+  class Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// The HOID filter on its own (docs/hoid.md): which boxes of a frame are dynamic, and why.
+struct FilterOptions {
+  std::string mode = "hoid2d";  // none, person, classes, hoid2d, hoid3d (hoidplus remembers frames: System only)
+  double min_interaction_area = 0.4;  // HOID.minInteractionArea
+  double depth_threshold = 0.2;       // HOID.depthThreshold, metres (hoid3d)
+};
+// One verdict per box, in order. `depth` (hoid3d reads it; may be null) and `depth_factor` as System::Track takes
+// them. Throws InputError naming the parameter.
+std::vector<JudgedBox> JudgeBoxes(std::span<const Detection> detections, const FilterOptions& options = {},
+                                  const ImageView* depth = nullptr, double depth_factor = 5000.0);
+
+// Errors of a trajectory against the ground truth, as TUM's evaluate_ate.py / evaluate_rpe.py compute them
+// (docs/evaluation.md).
+struct ErrorSummary {
+  double rmse = 0.0, mean = 0.0, median = 0.0, std = 0.0, min = 0.0, max = 0.0;
+  std::size_t count = 0;
+};
+// Absolute trajectory error after rigid alignment, with every matched pair for plots.
+struct AteResult {
+  ErrorSummary error;  // metres
+  std::vector<double> timestamps;                   // per matched pair: the estimate's timestamp
+  std::vector<std::array<double, 3>> groundtruth;  // the ground-truth position
+  std::vector<std::array<double, 3>> aligned;      // the estimated position, aligned to the ground truth
+};
+// Throws InputError when fewer than 3 stamps match.
+AteResult ComputeAte(const std::vector<StampedPose>& groundtruth, const std::vector<StampedPose>& estimate);
+// Relative pose error over `delta_seconds`: translation (metres) and rotation (degrees).
+struct RpeSummary {
+  ErrorSummary translation;
+  ErrorSummary rotation_deg;
+};
+RpeSummary ComputeRpe(const std::vector<StampedPose>& groundtruth, const std::vector<StampedPose>& estimate,
+                      double delta_seconds = 1.0);
+
+// A synthetic dynamic-scene sequence with exact ground truth, as `hoidslam synth` renders it
+// (docs/synthetic-benchmark.md): colour, depth, groundtruth.txt, detections.jsonl, moving-pixel masks.
+struct SynthOptions {
+  std::string scenario = "walking_xyz";  // a shipped scenario's name, or a .json scenario file
+  std::filesystem::path out;             // the folder to create (complete or not at all)
+  std::size_t frames = 0;                // render only the first N frames of the camera path (0: all)
+  int frame_step = 1;                    // keep every n-th frame
+  // The real TUM camera paths (groundtruth/, associations/) the shipped scenarios follow: the shared data's
+  // data/tum. Procedural cameras need none.
+  std::filesystem::path tum_dir;
+  bool force = false;  // replace `out` when it exists and is not empty
+  int threads = 2;     // frames rendered in parallel
+};
+// Renders the sequence and returns how many frames were written. Throws InputError naming the parameter.
+std::size_t RenderSynthetic(const SynthOptions& options);
+
 }  // namespace hoidslam

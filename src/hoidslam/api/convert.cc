@@ -97,14 +97,23 @@ std::vector<core::Detection> ToCoreDetections(std::span<const Detection> detecti
   return out;
 }
 
+std::vector<Detection> ToApiDetections(std::span<const core::Detection> detections) {
+  std::vector<Detection> out;
+  out.reserve(detections.size());
+  for (const core::Detection& d : detections) {
+    out.push_back({d.label, d.score, {d.box.x, d.box.y, d.box.width, d.box.height}, d.class_id});
+  }
+  return out;
+}
+
 std::vector<JudgedBox> ToJudgedBoxes(const hoid::JudgedBoxes& boxes) {
+  const std::vector<Detection> detections = ToApiDetections(boxes.detections);
   std::vector<JudgedBox> out;
-  out.reserve(boxes.detections.size());
-  for (std::size_t i = 0; i < boxes.detections.size(); ++i) {
-    const core::Detection& d = boxes.detections[i];
+  out.reserve(detections.size());
+  for (std::size_t i = 0; i < detections.size(); ++i) {
     const hoid::Decision& decision = boxes.decisions[i];
     JudgedBox box;
-    box.detection = {d.label, d.score, {d.box.x, d.box.y, d.box.width, d.box.height}, d.class_id};
+    box.detection = detections[i];
     box.dynamic = decision.dynamic;
     box.reason = hoid::ToString(decision.reason);
     if (decision.person_index != static_cast<int>(i)) {

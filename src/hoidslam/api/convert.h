@@ -27,6 +27,7 @@ cv::Mat DepthMetres(const ImageView& depth, int width, int height, double depth_
 // Throws InputError naming `name` (and the index) for an empty label, a score outside [0, 1] or a box with a
 // negative or non-finite size.
 std::vector<core::Detection> ToCoreDetections(std::span<const Detection> detections, const std::string& name);
+std::vector<Detection> ToApiDetections(std::span<const core::Detection> detections);
 std::vector<JudgedBox> ToJudgedBoxes(const hoid::JudgedBoxes& boxes);
 StampedPose ToStampedPose(const core::StampedPose& pose);
 

@@ -8,6 +8,7 @@
 
 #include "hoidslam/hoidslam.h"
 #include "hoidslam/hoidslam_opencv.h"
+#include "hoidslam/api/convert.h"
 #include "hoidslam/detect/file_detector.h"
 #include "hoidslam/io/rgbd_sequence.h"
 #include "hoidslam/pipeline/run.h"
@@ -21,14 +22,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
-
-std::vector<Detection> ToApi(const std::vector<core::Detection>& detections) {
-  std::vector<Detection> out;
-  for (const core::Detection& d : detections) {
-    out.push_back({d.label, d.score, {d.box.x, d.box.y, d.box.width, d.box.height}, d.class_id});
-  }
-  return out;
-}
 
 // Options with `filter`, changed by `change`.
 template <typename Change>
@@ -80,7 +73,7 @@ TEST(System, GivesTheTrajectoryOfHoidslamRunByteForByte) {
   for (std::size_t i = 0; i < sequence.size(); ++i) {
     const core::RgbdFrame frame = sequence.LoadFrame(i);
     const cv::Mat depth = cv::imread(frame.depth_path, cv::IMREAD_UNCHANGED);
-    const FrameResult r = Track(slam, frame.rgb, depth, frame.timestamp, ToApi(detector.Detect(frame.timestamp, frame.rgb)));
+    const FrameResult r = Track(slam, frame.rgb, depth, frame.timestamp, api::ToApiDetections(detector.Detect(frame.timestamp, frame.rgb)));
     EXPECT_EQ(r.index, i);
     tracked += r.T_wc ? 1 : 0;
     for (std::size_t k = 0; k < r.keypoints.size(); ++k) {
