@@ -25,13 +25,17 @@ import hoidslam
 class Replay:
     """A recording as a live camera: frame i becomes available at its recorded time after the start; each call
     returns the newest available frame (frames passed over meanwhile are dropped), waiting for the next one when
-    the caller is ahead. A thread decodes frames ahead, as a camera delivers them decoded."""
+    the caller is ahead. A camera delivers its frames decoded, so a thread decodes them ahead, up to `preload_mb`
+    of them before the clock starts (the rest while the replay runs, taking CPU from tracking)."""
 
-    def __init__(self, folder, ahead=30):
+    def __init__(self, folder, preload_mb=2048):
         self.sequence = hoidslam.Sequence(folder)
         self.offsets = self.sequence.timestamps() - self.sequence.timestamps()[0]  # seconds after the first
+        first = self.sequence[0]
+        frame_bytes = first.rgb.nbytes + first.depth.nbytes
+        self.ahead = max(1, min(len(self.sequence), preload_mb * 2**20 // frame_bytes))
         self.decoded = collections.deque()
-        self.room = threading.Semaphore(ahead)
+        self.room = threading.Semaphore(self.ahead)
         self.ready = threading.Condition()
         self.dropped = 0
         self.next = 0  # the first frame not yet handed out
@@ -50,6 +54,8 @@ class Replay:
         if self.next >= len(self.sequence):
             return None
         if self.start is None:
+            with self.ready:
+                self.ready.wait_for(lambda: len(self.decoded) == self.ahead)
             self.start = time.monotonic()
         elapsed = time.monotonic() - self.start
         newest = max(self.next, int(np.searchsorted(self.offsets, elapsed, side="right")) - 1)
@@ -116,15 +122,17 @@ def main():
     parser.add_argument("--settings", help="the camera's settings file (default: TUM fr3)")
     parser.add_argument("--model", help="YOLO ONNX model for the detector (default: no detector, filter none)")
     parser.add_argument("--realtime", action="store_true", help="the detector in its own thread")
+    parser.add_argument("--preload-mb", type=int, default=2048, help="--replay: memory for frames decoded ahead")
     parser.add_argument("--quiet", action="store_true", help="only the summary, not a line per frame")
     args = parser.parse_args()
 
-    read = Replay(args.replay) if args.replay else opencv_source(args.opencv) if args.opencv is not None \
+    read = Replay(args.replay, args.preload_mb) if args.replay else opencv_source(args.opencv) if args.opencv is not None \
         else realsense_source()
     detector = dict(detector="onnx", model=args.model) if args.model else dict(detector="none", filter="none")
     slam = hoidslam.System(settings=args.settings, realtime=args.realtime, **detector)
-    milliseconds, tracked, begin = [], 0, time.monotonic()
+    milliseconds, tracked, begin = [], 0, None
     while (frame := read()) is not None:
+        begin = begin or time.monotonic()  # from the first frame on: a replay decodes ahead before it
         rgb, depth, timestamp = frame
         result = slam.track(rgb, depth, timestamp)
         milliseconds.append(result.milliseconds)
