@@ -6,6 +6,8 @@ import re
 import subprocess
 import sys
 
+from conftest import shared_path
+
 EXAMPLES = pathlib.Path(os.environ.get("HOIDSLAM_SOURCE_DIR", pathlib.Path(__file__).resolve().parents[2])) / \
     "examples" / "python"
 
@@ -30,7 +32,8 @@ def test_own_detector_passes_each_frames_boxes(walk):
     assert re.search(r"(cup|book|bottle|laptop|chair) dropped \(interaction, \d+ % inside person #\d+\)", out)
 
 
-def test_live_camera_keeps_up_with_a_replay_at_the_recorded_rate(walk):
-    out = run("live_camera.py", "--replay", walk, "--quiet")
+def test_live_camera_tracks_a_replay_at_the_recorded_rate_with_the_detector_in_its_thread(walk):
+    out = run("live_camera.py", "--replay", walk, "--quiet", "--realtime", "--model",
+              shared_path("models/yolox_nano.onnx"))
     frames, tracked, dropped = map(int, re.search(r"(\d+) frames in .* (\d+) tracked, (\d+) dropped", out).groups())
     assert frames + dropped == 30 and tracked == frames

@@ -8,7 +8,6 @@
 
 #include <fmt/format.h>
 #include <opencv2/core.hpp>
-#include <opencv2/imgproc.hpp>
 
 #include "hoidslam/hoidslam.h"
 #include "hoidslam/version.h"

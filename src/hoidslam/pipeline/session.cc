@@ -149,8 +149,18 @@ class Session::Detections {
 };
 
 
+namespace {
+
+// `options`, once they pass Check(): nothing is built from options that fail it.
+const RunOptions& Checked(const RunOptions& options) {
+  options.Check();
+  return options;
+}
+
+}  // namespace
+
 Session::Session(const RunOptions& options, detect::Detector* detector, const std::filesystem::path& sequence_root)
-    : options_((options.Check(), options)), exclusion_(options.exclusion, sequence_root, options.system.camera) {
+    : options_(Checked(options)), exclusion_(options.exclusion, sequence_root, options.system.camera) {
   slam::SystemOptions system_options = options.system;
   if (options.exclusion.SafetyNet()) {
     system_options.tracking.moving_point_outliers = options.exclusion.hoid.plus.moving_point_outliers;
