@@ -4,7 +4,10 @@
 // camera SDK, a recording, a renderer. Poses, tracking states and every keypoint's verdict come out. No OpenCV type
 // is needed here; hoidslam/hoidslam_opencv.h adds overloads that take cv::Mat.
 //
-//   hoidslam::System slam({.settings = "TUM3.yaml", .filter = "hoid2d"});
+//   hoidslam::Options options;
+//   options.settings = hoidslam::ShippedDir() / "config/TUM3.yaml";
+//   options.filter = "hoid2d";
+//   hoidslam::System slam(options);
 //   hoidslam::FrameResult r = slam.Track(rgb, depth, timestamp, detections);
 //   if (r.T_wc) use(*r.T_wc);
 //   slam.Finish();
