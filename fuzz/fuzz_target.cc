@@ -6,6 +6,7 @@
 
 #include <Eigen/Geometry>
 
+#include "hoidslam/bow/vocabulary_file.h"
 #include "support/temp_dir.h"
 #include "support/text_file.h"
 
@@ -51,6 +52,17 @@ std::vector<Bytes> SplitFiles(Bytes input, std::size_t count) {
   }
   files.push_back(input.subspan(file_begin));
   return files;
+}
+
+std::optional<std::vector<std::uint8_t>> WithChecksum(Bytes input) {
+  if (input.size() < bow::kChecksumBytes) return std::nullopt;
+  std::vector<std::uint8_t> checksummed(input.begin(), input.end());
+  const std::size_t content = checksummed.size() - bow::kChecksumBytes;
+  const std::uint64_t checksum = bow::Fnv1a64(std::span(checksummed).first(content));
+  for (std::size_t i = 0; i < bow::kChecksumBytes; ++i) {
+    checksummed[content + i] = static_cast<std::uint8_t>(checksum >> (8 * i));
+  }
+  return checksummed;
 }
 
 void CheckRejection(const core::InputError& error, const std::string& source) {

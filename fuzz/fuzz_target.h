@@ -50,6 +50,10 @@ void WriteOrRemove(const std::filesystem::path& path, const std::optional<Bytes>
 // target that reads several files (rgb.txt and depth.txt) takes its files from one input this way.
 std::vector<Bytes> SplitFiles(Bytes input, std::size_t count);
 
+// The input with its last eight bytes made the FNV-1a 64 checksum of the others (as the vocabulary and map files
+// end), so that mutations get past the checksum to the checks behind it; nullopt for an input shorter than that.
+std::optional<std::vector<std::uint8_t>> WithChecksum(Bytes input);
+
 // Checks that `error` keeps the rejection contract: one line (no control character but tabs) beginning with
 // `source` (the file's path).
 void CheckRejection(const core::InputError& error, const std::string& source);

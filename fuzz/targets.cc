@@ -12,7 +12,7 @@ std::span<const Target> Targets() {
       Target{"settings", &FuzzSettings},       Target{"tum_lists", &FuzzTumLists},
       Target{"associations", &FuzzAssociations}, Target{"trajectory", &FuzzTrajectory},
       Target{"detections", &FuzzDetections},   Target{"scenario", &FuzzScenario},
-      Target{"vocabulary", &FuzzVocabulary},
+      Target{"vocabulary", &FuzzVocabulary},     Target{"map_file", &FuzzMapFile},
   };
   return kTargets;
 }

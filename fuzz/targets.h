@@ -22,6 +22,7 @@ void FuzzTrajectory(Bytes input);    // a TUM trajectory: io::ReadTumTrajectory
 void FuzzDetections(Bytes input);    // a detections file: io::DetectionsFile::Read
 void FuzzScenario(Bytes input);      // a scenario JSON file: synth::ParseScenario
 void FuzzVocabulary(Bytes input);    // a vocabulary file: bow::Vocabulary::Load
+void FuzzMapFile(Bytes input);       // a map file: slam::DecodeMap, then slam::RebuildMap
 
 std::span<const Target> Targets();
 

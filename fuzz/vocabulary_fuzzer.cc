@@ -57,14 +57,7 @@ void CheckVocabulary(Bytes bytes) {
 
 void FuzzVocabulary(Bytes input) {
   CheckVocabulary(input);
-  if (input.size() < bow::kChecksumBytes) return;
-  std::vector<std::uint8_t> checksummed(input.begin(), input.end());
-  const std::size_t content = checksummed.size() - bow::kChecksumBytes;
-  const std::uint64_t checksum = bow::Fnv1a64(std::span(checksummed).first(content));
-  for (std::size_t i = 0; i < bow::kChecksumBytes; ++i) {
-    checksummed[content + i] = static_cast<std::uint8_t>(checksum >> (8 * i));
-  }
-  CheckVocabulary(checksummed);
+  if (const auto checksummed = WithChecksum(input)) CheckVocabulary(*checksummed);
 }
 
 }  // namespace hoidslam::fuzz

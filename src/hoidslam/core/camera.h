@@ -11,6 +11,8 @@ struct CameraIntrinsics {
   double k1 = 0.0, k2 = 0.0, p1 = 0.0, p2 = 0.0, k3 = 0.0;  // distortion (OpenCV order)
   int width = 640, height = 480;  // image size, pixels
 
+  bool operator==(const CameraIntrinsics&) const = default;
+
   bool HasDistortion() const { return k1 != 0.0 || k2 != 0.0 || p1 != 0.0 || p2 != 0.0 || k3 != 0.0; }
 
   // Pixel of a point in camera coordinates (z forward), ignoring distortion.

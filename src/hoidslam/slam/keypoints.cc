@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include "hoidslam/features/undistort.h"
 
@@ -16,37 +17,53 @@ bool CellOf(const Sensor& s, double u, double v, int& col, int& row) {
   return col >= 0 && col < Sensor::kGridCols && row >= 0 && row < Sensor::kGridRows;
 }
 
+// An image's pixel under each keypoint (the zero value where the image is empty or the keypoint outside it). Depth
+// is registered to the colour image, so it is read at the keypoint as the sensor saw it (distorted).
+template <typename Pixel>
+std::vector<Pixel> SampleAt(const std::vector<cv::KeyPoint>& keypoints, const cv::Mat& image, int type,
+                            const char* what) {
+  if (!image.empty() && image.type() != type) throw std::invalid_argument(std::string("KeypointSet: ") + what);
+  std::vector<Pixel> samples(keypoints.size(), Pixel());
+  for (std::size_t i = 0; i < keypoints.size(); ++i) {
+    const int x = static_cast<int>(std::lround(keypoints[i].pt.x));
+    const int y = static_cast<int>(std::lround(keypoints[i].pt.y));
+    if (!image.empty() && x >= 0 && y >= 0 && x < image.cols && y < image.rows) samples[i] = image.at<Pixel>(y, x);
+  }
+  return samples;
+}
+
 }  // namespace
 
 KeypointSet::KeypointSet(std::shared_ptr<const Sensor> sensor, std::vector<cv::KeyPoint> keypoints,
                          cv::Mat descriptors, const cv::Mat& depth, const cv::Mat& bgr)
-    : sensor_(std::move(sensor)), keypoints_(std::move(keypoints)), descriptors_(std::move(descriptors)) {
+    : KeypointSet(std::move(sensor), keypoints, std::move(descriptors),
+                  SampleAt<float>(keypoints, depth, CV_32FC1, "depth must be CV_32FC1"),
+                  SampleAt<cv::Vec3b>(keypoints, bgr, CV_8UC3, "colour must be CV_8UC3")) {}
+
+KeypointSet::KeypointSet(std::shared_ptr<const Sensor> sensor, std::vector<cv::KeyPoint> keypoints,
+                         cv::Mat descriptors, std::vector<float> depth, std::vector<cv::Vec3b> colors)
+    : sensor_(std::move(sensor)), keypoints_(std::move(keypoints)), depth_(std::move(depth)),
+      descriptors_(std::move(descriptors)), colors_(std::move(colors)) {
   const std::size_t n = keypoints_.size();
   if (static_cast<std::size_t>(descriptors_.rows) != n || (n > 0 && descriptors_.cols != 32)) {
     throw std::invalid_argument("KeypointSet: one 32-byte descriptor row per keypoint expected");
   }
-  if (!depth.empty() && depth.type() != CV_32FC1) throw std::invalid_argument("KeypointSet: depth must be CV_32FC1");
-  if (!bgr.empty() && bgr.type() != CV_8UC3) throw std::invalid_argument("KeypointSet: colour must be CV_8UC3");
+  if (depth_.size() != n || colors_.size() != n) {
+    throw std::invalid_argument("KeypointSet: one depth and one colour per keypoint expected");
+  }
 
   const std::vector<cv::Point2f> undistorted = features::UndistortKeypoints(keypoints_, sensor_->intrinsics);
   undistorted_.resize(n);
-  depth_.assign(n, 0.0F);
   right_.assign(n, 0.0);
-  colors_.assign(n, cv::Vec3b(0, 0, 0));
   for (std::size_t i = 0; i < n; ++i) {
     undistorted_[i] = {undistorted[i].x, undistorted[i].y};
-    // Depth is registered to the colour image, so it is read at the keypoint as the sensor saw it (distorted).
-    const int x = static_cast<int>(std::lround(keypoints_[i].pt.x));
-    const int y = static_cast<int>(std::lround(keypoints_[i].pt.y));
-    if (!depth.empty() && x >= 0 && y >= 0 && x < depth.cols && y < depth.rows) {
-      const float z = depth.at<float>(y, x);
-      if (std::isfinite(z) && z > 0.0F) {
-        depth_[i] = z;
-        right_[i] = undistorted_[i].x() - sensor_->camera.bf / z;
-        ++num_with_depth_;
-      }
+    const float z = depth_[i];
+    if (std::isfinite(z) && z > 0.0F) {
+      right_[i] = undistorted_[i].x() - sensor_->camera.bf / z;
+      ++num_with_depth_;
+    } else {
+      depth_[i] = 0.0F;
     }
-    if (!bgr.empty() && x >= 0 && y >= 0 && x < bgr.cols && y < bgr.rows) colors_[i] = bgr.at<cv::Vec3b>(y, x);
   }
 
   // Counting sort of the keypoints into grid cells.

@@ -23,6 +23,10 @@ class KeypointSet {
   // invalid) and `bgr` (CV_8UC3) the frame's images, sampled at the (distorted) keypoint positions.
   KeypointSet(std::shared_ptr<const Sensor> sensor, std::vector<cv::KeyPoint> keypoints, cv::Mat descriptors,
               const cv::Mat& depth, const cv::Mat& bgr);
+  // The same from each keypoint's depth (metres; 0, negative or not finite = invalid) and colour as sampled
+  // before (a saved map's keyframes); `depth` and `colors` have one entry per keypoint.
+  KeypointSet(std::shared_ptr<const Sensor> sensor, std::vector<cv::KeyPoint> keypoints, cv::Mat descriptors,
+              std::vector<float> depth, std::vector<cv::Vec3b> colors);
 
   const Sensor& sensor() const { return *sensor_; }
   const std::shared_ptr<const Sensor>& shared_sensor() const { return sensor_; }

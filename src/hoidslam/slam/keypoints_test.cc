@@ -107,18 +107,39 @@ TEST(KeypointSet, MeasurementCarriesLevelWeight) {
 TEST(KeypointSet, ConstructorRejectsBadInput) {
   const auto sensor = MakeSensor();
   const std::vector<cv::KeyPoint> kps = {Kp(1, 1), Kp(2, 2), Kp(3, 3)};
-  EXPECT_THROW(KeypointSet(sensor, kps, Descriptors(2), {}, {}), std::invalid_argument);
-  EXPECT_THROW(KeypointSet(sensor, kps, Descriptors(4), {}, {}), std::invalid_argument);
-  EXPECT_THROW(KeypointSet(sensor, kps, cv::Mat::zeros(3, 16, CV_8UC1), {}, {}), std::invalid_argument);
+  EXPECT_THROW(KeypointSet(sensor, kps, Descriptors(2), cv::Mat(), cv::Mat()), std::invalid_argument);
+  EXPECT_THROW(KeypointSet(sensor, kps, Descriptors(4), cv::Mat(), cv::Mat()), std::invalid_argument);
+  EXPECT_THROW(KeypointSet(sensor, kps, cv::Mat::zeros(3, 16, CV_8UC1), cv::Mat(), cv::Mat()), std::invalid_argument);
   // Raw 16-bit TUM depth must be converted to metres first.
-  EXPECT_THROW(KeypointSet(sensor, kps, Descriptors(3), cv::Mat::zeros(480, 640, CV_16UC1), {}),
+  EXPECT_THROW(KeypointSet(sensor, kps, Descriptors(3), cv::Mat::zeros(480, 640, CV_16UC1), cv::Mat()),
                std::invalid_argument);
-  EXPECT_THROW(KeypointSet(sensor, kps, Descriptors(3), cv::Mat::zeros(480, 640, CV_64FC1), {}),
+  EXPECT_THROW(KeypointSet(sensor, kps, Descriptors(3), cv::Mat::zeros(480, 640, CV_64FC1), cv::Mat()),
                std::invalid_argument);
   EXPECT_THROW(KeypointSet(sensor, kps, Descriptors(3), EmptyDepth(), cv::Mat::zeros(480, 640, CV_8UC1)),
                std::invalid_argument);
   EXPECT_NO_THROW(KeypointSet(sensor, kps, Descriptors(3), EmptyDepth(), cv::Mat::zeros(480, 640, CV_8UC3)));
-  EXPECT_NO_THROW(KeypointSet(sensor, {}, cv::Mat(), EmptyDepth(), {}));
+  EXPECT_NO_THROW(KeypointSet(sensor, {}, cv::Mat(), EmptyDepth(), cv::Mat()));
+  // Stored per-keypoint samples: one depth and one colour each.
+  const std::vector<cv::Vec3b> colors(3);
+  EXPECT_THROW(KeypointSet(sensor, kps, Descriptors(3), std::vector<float>(2), colors), std::invalid_argument);
+  EXPECT_THROW(KeypointSet(sensor, kps, Descriptors(3), std::vector<float>(3), std::vector<cv::Vec3b>(4)),
+               std::invalid_argument);
+}
+
+TEST(KeypointSet, StoredSamplesGiveTheSetTheImagesGave) {
+  const auto sensor = MakeSensor();
+  const std::vector<cv::KeyPoint> kps = {Kp(10, 10), Kp(20, 10), Kp(30, 10)};
+  cv::Mat depth = EmptyDepth();
+  depth.at<float>(10, 10) = 1.5F;
+  const KeypointSet sampled(sensor, kps, Descriptors(3), depth, cv::Mat());
+  // A depth that is not a number or not positive is none, as in a depth image.
+  const KeypointSet stored(sensor, kps, Descriptors(3), {1.5F, std::nanf(""), -1.0F}, std::vector<cv::Vec3b>(3));
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(stored.depth(i), sampled.depth(i));
+    EXPECT_EQ(stored.right(i), sampled.right(i));
+  }
+  EXPECT_EQ(stored.num_with_depth(), 1);
+  EXPECT_EQ(stored.FeaturesInArea(20, 10, 15), sampled.FeaturesInArea(20, 10, 15));
 }
 
 std::vector<int> BruteForce(const KeypointSet& set, double u, double v, double r, int min_level, int max_level) {

@@ -188,6 +188,11 @@ std::vector<MapPoint*> Map::MapPoints() const {
   return good;
 }
 
+void Map::SetParent(KeyFrame* keyframe, KeyFrame* parent) {
+  keyframe->parent_ = parent;
+  parent->AddChild(keyframe);
+}
+
 void Map::AddLoopEdge(KeyFrame* a, KeyFrame* b) {
   a->AddLoopEdge(b);
   b->AddLoopEdge(a);

@@ -55,6 +55,9 @@ class Map {
   // covisible keyframe among the candidates (its parent and the children already re-parented), and it keeps its
   // pose relative to its parent. The first keyframe and the ends of a closed loop are never erased.
   void EraseKeyFrame(KeyFrame* keyframe);
+  // Makes `parent` the keyframe's spanning-tree parent (a loaded map's tree, before UpdateConnections would choose
+  // one); the keyframe must have none yet.
+  void SetParent(KeyFrame* keyframe, KeyFrame* parent);
   // Joins the two ends of a closed loop (KeyFrame::loop_edges).
   void AddLoopEdge(KeyFrame* a, KeyFrame* b);
   // Gives the keyframe its bag of words and enters it into the place-recognition database.
