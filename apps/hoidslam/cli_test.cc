@@ -281,9 +281,11 @@ TEST(CliRun, DeterministicRunsWriteIdenticalFiles) {
   const fs::path sequence = Render(scratch, "walking_xyz", ThinnedUnderSanitizers({100, 2}));
   for (const char* name : {"a", "b"}) {
     const RunResult run = RunHoidslam(scratch, {"run", sequence.string(), "--filter", "hoid2d", "--deterministic",
+                                                "--save-map", (scratch / (std::string(name) + ".hmap")).string(),
                                                 "--out", (scratch / name).string()});
     ASSERT_EQ(run.exit_status, 0) << run.err;
   }
+  EXPECT_EQ(ReadText(scratch / "a.hmap"), ReadText(scratch / "b.hmap"));
   for (const char* file : {"trajectory.txt", "keyframes.txt", "map.ply", "frames.jsonl"}) {
     if (std::string(file) == "frames.jsonl") continue;  // holds the stage timings, which differ
     EXPECT_EQ(ReadText(scratch / "a" / file), ReadText(scratch / "b" / file)) << file;
@@ -338,7 +340,32 @@ TEST(CliRun, NamesWhatIsMissingAndWritesNothing) {
   ExpectOneErrorLine(RunHoidslam(scratch, {"run", sequence.string(), "--filter", "none", "--vocabulary",
                                            (scratch / "other.jsonl").string(), "--out", out.string()}),
                      "other.jsonl");
+  // A map file that is not there; localisation without a map.
+  ExpectOneErrorLine(RunHoidslam(scratch, {"run", sequence.string(), "--filter", "none", "--load-map",
+                                           (scratch / "none.hmap").string(), "--out", out.string()}),
+                     "none.hmap");
+  ExpectOneErrorLine(RunHoidslam(scratch, {"run", sequence.string(), "--filter", "none", "--localization", "--out",
+                                           out.string()}),
+                     "--localization");
   EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(CliRun, AMapSavedByOneRunIsTrackedAgainstByTheNext) {
+  const testing::TempDir scratch;
+  const fs::path sequence = Render(scratch, "walking_xyz_static", ThinnedUnderSanitizers({60, 1}));
+  const fs::path map = scratch / "office.hmap";
+  const RunResult first = RunHoidslam(scratch, {"run", sequence.string(), "--filter", "none", "--deterministic",
+                                                "--save-map", map.string(), "--out", (scratch / "a").string()});
+  ASSERT_EQ(first.exit_status, 0) << first.err;
+  const RunResult second =
+      RunHoidslam(scratch, {"run", sequence.string(), "--filter", "none", "--deterministic", "--load-map", map.string(),
+                            "--localization", "--save-map", (scratch / "again.hmap").string(), "--out",
+                            (scratch / "b").string()});
+  ASSERT_EQ(second.exit_status, 0) << second.err;
+  const nlohmann::json summary = Summary(scratch / "b");
+  EXPECT_EQ(summary["tracked"], summary["frames"]);
+  EXPECT_EQ(summary["keyframes"], Summary(scratch / "a")["keyframes"]);
+  EXPECT_EQ(ReadText(scratch / "again.hmap"), ReadText(map));  // localisation leaves the map as it was
 }
 
 // ---- hoidslam masks --------------------------------------------------------------------------------------------

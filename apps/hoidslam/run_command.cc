@@ -48,6 +48,9 @@ struct RunArgs {
   std::size_t frames = 0;
   bool deterministic = false;
   bool no_loop_closing = false;
+  std::string save_map;
+  std::string load_map;
+  bool localization = false;
   bool realtime = false;
   bool pace = false;
   std::size_t preload_megabytes = pipeline::RealTimeOptions{}.preload_megabytes;
@@ -170,6 +173,9 @@ void RunRun(const RunArgs& args) {
   options.system.deterministic = args.deterministic;
   options.system.vocabulary = args.vocabulary;
   options.system.loop_closing.enabled = !args.no_loop_closing;
+  options.system.load_map = args.load_map;
+  options.system.localization = args.localization;
+  options.save_map = args.save_map;
   options.realtime.enabled = args.realtime;
   options.realtime.pace = args.pace;
   options.realtime.preload_megabytes = args.preload_megabytes;
@@ -328,6 +334,15 @@ void AddRunCommand(CLI::App& app) {
   command->add_option("--frames", args->frames, "Run only the first N frames (0 = all)")->capture_default_str();
   command->add_flag("--no-loop-closing", args->no_loop_closing,
                     "Do not close loops: the map keeps the drift of the path back to a place it has seen");
+  command->add_option("--save-map", args->save_map,
+                      "Write the final map (keyframes, points, covisibility, camera and vocabulary) to this map file "
+                      "(docs/slam.md, \"Map reuse\")");
+  command->add_option("--load-map", args->load_map,
+                      "Start from the map in this map file: the first frame is relocalised in it, and new keyframes "
+                      "continue it. It must have been made with the same camera and vocabulary");
+  command->add_flag("--localization", args->localization,
+                    "With --load-map: track against the loaded map without changing it (no new keyframes, no local "
+                    "mapping, no loop closing)");
   command->add_flag("--deterministic", args->deterministic,
                     "Local mapping in step with tracking: identical output on every run (slower)");
   command->add_flag("--realtime", args->realtime,

@@ -73,6 +73,8 @@ struct RunOptions {
   KeypointBudget keypoint_budget = KeypointBudget::kStatic;
   std::size_t max_frames = 0;  // 0: the whole sequence
   std::size_t snapshots = 6;   // annotated frames written, evenly spread over the run
+  // Where the final map is written as a map file (slam/map_file.h); empty: nowhere.
+  std::filesystem::path save_map;
 
   // The camera, depth, ORB and HOID settings of a settings file; the rest at their defaults.
   static RunOptions FromSettings(const io::Settings& settings);

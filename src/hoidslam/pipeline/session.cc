@@ -278,6 +278,7 @@ void Session::Finish() {
   if (finished_) return;
   detections_.reset();  // the detector thread stops: the detector is the caller's again
   system_->Finish();
+  if (!options_.save_map.empty()) system_->SaveMap(options_.save_map);
   summary_.loops = system_->LoopClosures();
   summary_.loop_timings = system_->LoopClosingTimings();
   finished_ = true;

@@ -19,11 +19,13 @@ KeyFrame* Map::CreateKeyFrame(std::uint64_t frame_id, double timestamp, std::sha
   return keyframes_.back().get();
 }
 
-MapPoint* Map::CreateMapPoint(const Eigen::Vector3d& position_w, KeyFrame* keyframe, int index) {
+MapPoint* Map::CreateMapPoint(const Eigen::Vector3d& position_w, KeyFrame* keyframe, int index,
+                              std::optional<cv::Vec3b> color) {
   const KeypointSet& keypoints = keyframe->keypoints();
   const cv::Mat descriptor(1, 32, CV_8UC1, const_cast<std::uint8_t*>(keypoints.descriptor(index)));
   points_.push_back(
-      std::make_unique<MapPoint>(points_.size(), position_w, keyframe->id(), descriptor, keypoints.color(index)));
+      std::make_unique<MapPoint>(points_.size(), position_w, keyframe->id(), descriptor,
+                                 color.value_or(keypoints.color(index))));
   MapPoint* point = points_.back().get();
   AddObservation(point, keyframe, index);
   point->UpdateFromObservations();

@@ -13,6 +13,7 @@
 
 #include <deque>
 #include <memory>
+#include <optional>
 #include <shared_mutex>
 #include <vector>
 
@@ -33,8 +34,10 @@ class Map {
   // --- Exclusive lock held ---
   KeyFrame* CreateKeyFrame(std::uint64_t frame_id, double timestamp, std::shared_ptr<const KeypointSet> keypoints,
                            const core::Pose& T_cw);
-  // A new point first seen by keypoint `index` of `keyframe` (and observed by it).
-  MapPoint* CreateMapPoint(const Eigen::Vector3d& position_w, KeyFrame* keyframe, int index);
+  // A new point first seen by keypoint `index` of `keyframe` (and observed by it), of that keypoint's colour unless
+  // `color` says otherwise (a loaded point keeps the colour of the keyframe that made it, which may be gone).
+  MapPoint* CreateMapPoint(const Eigen::Vector3d& position_w, KeyFrame* keyframe, int index,
+                           std::optional<cv::Vec3b> color = std::nullopt);
   // Adds the observation point ↔ keypoint `index` of `keyframe` (replacing what that keypoint saw before). Does
   // nothing when the keyframe already sees the point at another keypoint: one point, one keypoint per keyframe.
   void AddObservation(MapPoint* point, KeyFrame* keyframe, int index);

@@ -421,8 +421,8 @@ void RebuildMap(const MapFileContent& content, const std::shared_ptr<const Senso
   for (const auto& [a, b] : content.loop_edges) map.AddLoopEdge(keyframes[a], keyframes[b]);
   for (const MapFilePoint& saved : content.points) {
     const MapFilePoint::Observation& reference = saved.observations[saved.reference];
-    MapPoint* point =
-        map.CreateMapPoint(saved.position, keyframes[reference.keyframe], static_cast<int>(reference.keypoint));
+    MapPoint* point = map.CreateMapPoint(saved.position, keyframes[reference.keyframe],
+                                         static_cast<int>(reference.keypoint), saved.color);
     for (const MapFilePoint::Observation& o : saved.observations) {
       map.AddObservation(point, keyframes[o.keyframe], static_cast<int>(o.keypoint));
     }

@@ -10,7 +10,7 @@
 //   keyframes   u32 count, then per keyframe:
 //               u64 frame id;  f64 timestamp;  f64 × 12  T_cw, the rotation row by row then the translation
 //               u32 parent (a keyframe index, 0xffffffff: none)
-//               u32 keypoint count, then per keypoint 57 bytes: f32 × 5  x y size angle response;  i32 octave;
+//               u32 keypoint count, then per keypoint 63 bytes: f32 × 5  x y size angle response;  i32 octave;
 //               f32 depth (metres, 0: none);  u8 × 3  colour (BGR);  32 bytes  descriptor
 //   loop edges  u32 count, then per edge u32 × 2  keyframe indices a < b, pairs in increasing order
 //   points      u32 count, then per point: f64 × 3  position;  u8 × 3  colour;  u32  reference observation (an

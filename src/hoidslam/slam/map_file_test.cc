@@ -56,7 +56,7 @@ std::shared_ptr<const KeypointSet> MakeKeypoints(const std::shared_ptr<const Sen
     keypoints.emplace_back(20.0F + 10.0F * static_cast<float>(i % 50), 20.0F + 10.0F * static_cast<float>(i / 50),
                            31.0F, 45.0F, 0.5F, i % 3);
     depth.push_back(i % 2 == 0 ? 2.0F : 0.0F);
-    colors.emplace_back(static_cast<std::uint8_t>(i), 100, 200);
+    colors.emplace_back(static_cast<std::uint8_t>(i), 100, static_cast<std::uint8_t>(rng.uniform(0, 256)));
   }
   cv::Mat descriptors(kKeypoints, 32, CV_8UC1);
   rng.fill(descriptors, cv::RNG::UNIFORM, 0, 256);
@@ -92,6 +92,8 @@ void BuildMap(Map& map, const std::shared_ptr<const Sensor>& sensor, const bow::
     map.IndexKeyFrame(keyframe, vocabulary.Transform(keyframe->keypoints().descriptors()));
   }
   map.AddLoopEdge(keyframes[0], keyframes[3]);
+  // A point whose first keyframe no longer sees it: it keeps that keyframe's colour.
+  map.EraseObservation(keyframes[0]->map_point(4), keyframes[0]);
   map.EraseKeyFrame(keyframes[2]);
   // As local mapping would, before a map is saved: what loading recomputes is then the same.
   for (KeyFrame* keyframe : map.KeyFrames()) map.UpdateConnections(keyframe);

@@ -8,6 +8,7 @@
 
 #include "hoidslam/core/error.h"
 #include "hoidslam/core/shipped_dir.h"
+#include "hoidslam/slam/map_file.h"
 
 namespace hoidslam::slam {
 
@@ -22,6 +23,9 @@ void SystemOptions::Check() const {
   tracking.Check();
   mapping.Check();
   loop_closing.Check();
+  if (localization && load_map.empty()) {
+    throw core::InputError::ForParameter("--localization", "needs a map to track against (--load-map)");
+  }
 }
 
 namespace {
@@ -55,6 +59,11 @@ System::System(const SystemOptions& options)
       loop_closer_(map_, local_mapper_, options.loop_closing),
       tracker_(map_, vocabulary_, local_mapper_, options.tracking) {
   sensor_ = Sensor::Make(options.camera, options.bf, options.close_depth, extractor_.pyramid());
+  if (!options.load_map.empty()) {
+    std::unique_lock lock(map_.mutex());
+    LoadMap(options.load_map, sensor_, vocabulary_, map_);
+    tracker_.StartInLoadedMap(options.localization);
+  }
   if (!options_.deterministic) {
     local_mapper_.Start();
     loop_closer_.Start();
@@ -125,6 +134,11 @@ void System::Finish() {
   local_mapper_.ProcessQueue();
   loop_closer_.Stop();
   loop_closer_.ProcessQueue();
+}
+
+void System::SaveMap(const std::filesystem::path& path) const {
+  std::shared_lock lock(map_.mutex());
+  slam::SaveMap(map_, *sensor_, vocabulary_, path);
 }
 
 core::Trajectory System::FrameTrajectory() const {

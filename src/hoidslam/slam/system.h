@@ -43,6 +43,11 @@ struct SystemOptions {
   // The bag-of-words vocabulary place recognition describes keyframes and lost frames with (docs/vocabulary.md):
   // by default the one shipped in data/vocabulary.
   std::filesystem::path vocabulary = ShippedVocabulary();
+  // A map file (map_file.h) to start from instead of an empty map: tracking relocalises the first frame in it, and
+  // new keyframes continue it. Empty: a new map.
+  std::filesystem::path load_map;
+  // With load_map: track against the loaded map without changing it (no keyframes, no local mapping, no loops).
+  bool localization = false;
 
   void Check() const;
 };
@@ -61,7 +66,8 @@ struct MapPointSample {
 
 class System {
  public:
-  // Throws core::InputError when the options fail Check().
+  // Throws core::InputError when the options fail Check(), or naming the map file when options.load_map cannot be
+  // loaded (see LoadMap).
   explicit System(const SystemOptions& options);
   ~System();  // stops local mapping and loop closing
   System(const System&) = delete;
@@ -81,6 +87,9 @@ class System {
   // Lets local mapping and loop closing finish their queues and stops them; the outputs below then show the final
   // map.
   void Finish();
+  // Writes the map to a map file (map_file.h; after Finish, the final map). Throws core::InputError naming the file
+  // when it cannot be written.
+  void SaveMap(const std::filesystem::path& path) const;
 
   // Every tracked frame's pose, placed relative to its reference keyframe as the map finally has it.
   core::Trajectory FrameTrajectory() const;

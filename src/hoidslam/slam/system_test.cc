@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <numbers>
 #include <random>
 #include <stdexcept>
@@ -13,6 +16,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "hoidslam/core/error.h"
+#include "support/temp_dir.h"
 
 namespace hoidslam::slam {
 namespace {
@@ -430,6 +434,86 @@ TEST(System, RejectsBadInput) {
   small.depth = cv::Mat(240, 320, CV_32FC1, cv::Scalar(1.0));
   EXPECT_THROW(system.Track(small, features, {}), std::invalid_argument);
   EXPECT_THROW(system.Extract(cv::Mat(480, 640, CV_32FC1)), std::invalid_argument);
+}
+
+// A map of the sliding wall, saved; then loaded by a second system that tracks frames of the same wall from
+// another start, going the other way.
+class MapReuse : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    System mapping(Options());
+    ASSERT_NO_FATAL_FAILURE(TrackWholeFrames(mapping, texture_, 20));
+    mapping.Finish();
+    mapping.SaveMap(map_file_);
+    keyframes_ = mapping.NumKeyFrames();
+  }
+
+  SystemOptions LoadOptions(bool localization) const {
+    SystemOptions options = Options();
+    options.load_map = map_file_;
+    options.localization = localization;
+    return options;
+  }
+
+  std::vector<std::uint8_t> MapBytes(const System& system) const {
+    system.SaveMap(dir_ / "again.hmap");
+    std::ifstream file(dir_ / "again.hmap", std::ios::binary);
+    return {std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
+  }
+
+  // Twice as wide as the frames need, so the camera can slide on past where the map ends (negative k).
+  const cv::Mat texture_ = MakeTexture(3, {1600, 600});
+  testing::TempDir dir_;
+  std::filesystem::path map_file_ = dir_ / "wall.hmap";
+  std::size_t keyframes_ = 0;
+};
+
+TEST_F(MapReuse, LocalizationTracksFromTheFirstFrameAndLeavesTheMapAsItWas) {
+  System system(LoadOptions(true));
+  const std::vector<std::uint8_t> loaded = MapBytes(system);
+  for (int k = 15; k >= 3; --k) {
+    core::RgbdFrame frame = MakeFrame(texture_, k);
+    frame.timestamp = 200.0 + (15 - k) / 30.0;
+    const TrackResult result = system.Track(frame, system.Extract(frame.rgb), {});
+    ASSERT_EQ(result.state, TrackingState::kOk) << "frame " << k;
+    EXPECT_EQ(result.method == TrackingMethod::kRelocalization, k == 15) << "frame " << k;
+    EXPECT_FALSE(result.keyframe);
+    EXPECT_LT((result.T_cw->translation() - TrueTranslation(k)).norm(), 0.005) << "frame " << k;
+  }
+  system.Finish();
+  EXPECT_EQ(system.NumKeyFrames(), keyframes_);
+  EXPECT_EQ(MapBytes(system), loaded);
+}
+
+TEST_F(MapReuse, ALoadedMapIsContinuedWithoutLocalization) {
+  System system(LoadOptions(false));
+  // From frame 10 back past the first, on to wall the map has not seen.
+  for (int k = 10; k >= -150; --k) {
+    core::RgbdFrame frame = MakeFrame(texture_, k);
+    frame.timestamp = 200.0 + (10 - k) / 30.0;
+    const TrackResult result = system.Track(frame, system.Extract(frame.rgb), {});
+    ASSERT_EQ(result.state, TrackingState::kOk) << "frame " << k;
+    // On new wall the map drifts as any map does: up to 9 mm after 150 frames.
+    EXPECT_LT((result.T_cw->translation() - TrueTranslation(k)).norm(), 0.012) << "frame " << k;
+  }
+  system.Finish();
+  EXPECT_GT(system.NumKeyFrames(), keyframes_);
+}
+
+TEST_F(MapReuse, LocalizationNeedsAMapAndAMapItsCamera) {
+  SystemOptions no_map = Options();
+  no_map.localization = true;
+  EXPECT_THROW(System{no_map}, core::InputError);
+  SystemOptions other_camera = LoadOptions(true);
+  other_camera.camera.fx = 500.0;
+  try {
+    System system(other_camera);
+    ADD_FAILURE() << "a map of another camera was loaded";
+  } catch (const core::InputError& error) {
+    EXPECT_NE(std::string(error.what()).find(map_file_.string() + ": the map was made with another camera"),
+              std::string::npos)
+        << error.what();
+  }
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "hoidslam/slam/tracker.h"
 
 #include <algorithm>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <shared_mutex>
@@ -150,15 +151,18 @@ TrackResult Tracker::Track(Frame frame) {
     if (state_ == TrackingState::kNotInitialized) {
       // Initialisation writes the map: done below under the exclusive lock.
     } else {
-      // Local mapping may have fused points the last tracked frame matched, or moved its reference keyframe.
-      Frame& last = *last_frame_;
-      for (MapPoint*& p : last.map_points) {
-        if (p != nullptr) p = p->Current();
+      // Local mapping may have fused points the last tracked frame matched, or moved its reference keyframe. (In a
+      // loaded map no frame has been tracked at first: the first one is relocalised, as after a long loss.)
+      if (last_frame_) {
+        for (MapPoint*& p : last_frame_->map_points) {
+          if (p != nullptr) p = p->Current();
+        }
+        if (last_record_.reference != nullptr && !last_record_.reference->bad()) {
+          last_frame_->T_cw = last_record_.T_cr * last_record_.reference->T_cw();
+        }
       }
-      if (last_record_.reference != nullptr && !last_record_.reference->bad()) {
-        last.T_cw = last_record_.T_cr * last_record_.reference->T_cw();
-      }
-      const double gap = frame.timestamp - last.timestamp;
+      const double gap = last_frame_ ? frame.timestamp - last_frame_->timestamp
+                                     : std::numeric_limits<double>::infinity();
       if (state_ == TrackingState::kOk) {
         const bool just_relocalized =
             last_relocalization_frame_id_ && frame.id <= *last_relocalization_frame_id_ + 2;
@@ -183,12 +187,12 @@ TrackResult Tracker::Track(Frame frame) {
       if (ok) {
         // The motion since the last tracked frame; over a long loss it says nothing of the next frame.
         if (gap <= options_.max_motion_gap && result.method != TrackingMethod::kRelocalization) {
-          velocity_ = frame.T_cw * last.T_cw.inverse();
+          velocity_ = frame.T_cw * last_frame_->T_cw.inverse();
           velocity_seconds_ = gap;
         } else {
           velocity_.reset();
         }
-        make_keyframe = NeedNewKeyFrame(frame, result.inliers);
+        make_keyframe = !localization_ && NeedNewKeyFrame(frame, result.inliers);
       }
     }
   }
@@ -245,6 +249,11 @@ TrackResult Tracker::Track(Frame frame) {
   }
   result.state = state_;
   return result;
+}
+
+void Tracker::StartInLoadedMap(bool localization) {
+  state_ = TrackingState::kLost;
+  localization_ = localization;
 }
 
 bool Tracker::Initialize(Frame& frame) {
@@ -417,7 +426,7 @@ TrackingFailure Tracker::TrackLocalMap(Frame& frame, TrackResult& result) {
 
 void Tracker::FindMovingPoints(const Frame& frame, const TrackResult& result) {
   moving_points_.clear();
-  if (options_.moving_point_outliers == 0) return;
+  if (options_.moving_point_outliers == 0 || localization_) return;
   // Only a pose most matches agree with can accuse a point: on a weak frame the misfits may be the pose's fault.
   if (result.inliers < 2 * options_.min_inliers || 2 * result.inliers < result.matched) return;
   for (int i = 0; i < frame.size(); ++i) {
@@ -438,6 +447,7 @@ void Tracker::FindMovingPoints(const Frame& frame, const TrackResult& result) {
 
 bool Tracker::NeedNewKeyFrame(const Frame& frame, int inliers) const {
   if (local_mapper_.Paused()) return false;  // a loop is being corrected
+  if (reference_keyframe_ == nullptr) return false;  // the first frame found in a loaded map: nothing to compare
   const std::size_t keyframes = map_.NumKeyFrames();
   const auto max_interval = static_cast<std::uint64_t>(options_.keyframe_max_interval);
   // Right after relocalising, wait for the map to be trusted again.
@@ -542,6 +552,7 @@ int Tracker::EstimatePoseRansac(Frame& frame) {
 }
 
 bool Tracker::WithinReach(const Frame& frame) const {
+  if (!last_frame_) return true;  // the first frame in a loaded map may be anywhere in it
   const Frame& last = *last_frame_;
   const double gap = frame.timestamp - last.timestamp;
   if (gap > options_.max_motion_gap) return true;  // time enough to have gone anywhere

@@ -113,6 +113,11 @@ class Tracker {
   // Tracks the next frame (frame ids increase by one from 0). Takes the map's lock as map.h describes.
   TrackResult Track(Frame frame);
 
+  // Tracks in a map loaded before the first frame: that frame is relocalised in it rather than starting a map. In
+  // localisation, frames are only tracked: no keyframe is made and the safety net erases no point, so the map
+  // stays as it was loaded.
+  void StartInLoadedMap(bool localization);
+
   // Where each frame stands, to place it once the map has been refined (as ORB-SLAM saves trajectories): its pose
   // relative to its reference keyframe. Lost frames have no reference.
   struct FrameRecord {
@@ -163,6 +168,7 @@ class Tracker {
   TrackerOptions options_;
 
   TrackingState state_ = TrackingState::kNotInitialized;
+  bool localization_ = false;
   // The last tracked frame (the last frame while tracking, the one before the loss when lost) and its record.
   std::optional<Frame> last_frame_;
   FrameRecord last_record_;
