@@ -27,6 +27,9 @@ constexpr std::size_t kMinKeyFrameBytes = 8 + 8 + 12 * 8 + 4 + 4;
 constexpr std::size_t kLoopEdgeBytes = 8;
 constexpr std::size_t kMinPointBytes = 3 * 8 + 3 + 4 + 4 + 8;
 constexpr std::size_t kObservationBytes = 8;
+// Bounds that keep a camera's numbers sane (ORB pyramids have 8 levels or so).
+constexpr std::uint32_t kMaxImageSide = 1U << 16;
+constexpr std::uint32_t kMaxPyramidLevels = 64;
 // A pose's rotation is taken for one when R^T R is the identity to this much.
 constexpr double kRotationTolerance = 1e-6;
 
@@ -124,19 +127,22 @@ MapFileCamera GetCamera(Reader& r) {
   for (double* value : {&k.fx, &k.fy, &k.cx, &k.cy, &k.k1, &k.k2, &k.p1, &k.p2, &k.k3}) {
     *value = r.Finite("the camera");
   }
-  k.width = static_cast<int>(std::min<std::uint32_t>(r.Get<std::uint32_t>("the camera"), 1U << 20));
-  k.height = static_cast<int>(std::min<std::uint32_t>(r.Get<std::uint32_t>("the camera"), 1U << 20));
+  const auto width = r.Get<std::uint32_t>("the camera");
+  const auto height = r.Get<std::uint32_t>("the camera");
   camera.bf = r.Finite("the camera");
   camera.close_depth = r.Finite("the camera");
-  camera.pyramid_levels = static_cast<int>(std::min<std::uint32_t>(r.Get<std::uint32_t>("the camera"), 1000));
+  const auto levels = r.Get<std::uint32_t>("the camera");
   camera.scale_factor = r.F32("the camera");
-  if (k.width == 0 || k.height == 0 || !(k.fx > 0.0) || !(k.fy > 0.0)) {
-    throw r.Fail(fmt::format("a camera of {}×{} pixels with focal lengths {} and {}", k.width, k.height, k.fx, k.fy));
+  if (width == 0 || height == 0 || width > kMaxImageSide || height > kMaxImageSide || !(k.fx > 0.0) ||
+      !(k.fy > 0.0)) {
+    throw r.Fail(fmt::format("a camera of {}×{} pixels with focal lengths {} and {}", width, height, k.fx, k.fy));
   }
-  if (camera.pyramid_levels < 1 || !(camera.scale_factor >= 1.0F && std::isfinite(camera.scale_factor))) {
-    throw r.Fail(fmt::format("an ORB pyramid of {} levels and scale factor {}", camera.pyramid_levels,
-                             camera.scale_factor));
+  if (levels < 1 || levels > kMaxPyramidLevels || !(camera.scale_factor >= 1.0F && std::isfinite(camera.scale_factor))) {
+    throw r.Fail(fmt::format("an ORB pyramid of {} levels and scale factor {}", levels, camera.scale_factor));
   }
+  k.width = static_cast<int>(width);
+  k.height = static_cast<int>(height);
+  camera.pyramid_levels = static_cast<int>(levels);
   return camera;
 }
 
