@@ -179,7 +179,7 @@ void LocalMapper::Loop(std::stop_token stop) {
 
 void LocalMapper::Process(KeyFrame* keyframe) {
   // Its keypoints never change: described without the lock, entered into the database with it.
-  bow::ImageWords words = vocabulary_.Transform(keyframe->keypoints().descriptors(), kBowMatchingLevelsUp);
+  bow::ImageWords words = DescribePlace(vocabulary_, keyframe->keypoints());
   {
     std::unique_lock lock(map_.mutex());
     map_.IndexKeyFrame(keyframe, std::move(words));

@@ -14,6 +14,7 @@
 #include "hoidslam/bow/vocabulary_file.h"
 #include "hoidslam/core/error.h"
 #include "hoidslam/io/atomic_file.h"
+#include "hoidslam/slam/matcher.h"
 
 namespace hoidslam::slam {
 namespace {
@@ -436,7 +437,7 @@ void RebuildMap(const MapFileContent& content, const std::shared_ptr<const Senso
   }
   for (KeyFrame* keyframe : keyframes) {
     map.UpdateConnections(keyframe);
-    map.IndexKeyFrame(keyframe, vocabulary.Transform(keyframe->keypoints().descriptors()));
+    map.IndexKeyFrame(keyframe, DescribePlace(vocabulary, keyframe->keypoints()));
   }
 }
 

@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 
+#include "hoidslam/bow/vocabulary.h"
 #include "hoidslam/slam/frame.h"
 #include "hoidslam/slam/keyframe.h"
 
@@ -50,6 +51,11 @@ int SearchByDescriptor(const KeyFrame& keyframe, const Frame& frame, std::vector
 // (with the shipped k 10, L 5: the 100 nodes of level 2, as ORB-SLAM's 4 levels up of its L 6). Keyframes and lost
 // frames are described with it (bow::Vocabulary::Transform).
 inline constexpr int kBowMatchingLevelsUp = 3;
+
+// The bag of words and direct index of a keyframe's or lost frame's keypoints, for place recognition and SearchByBoW.
+inline bow::ImageWords DescribePlace(const bow::Vocabulary& vocabulary, const KeypointSet& keypoints) {
+  return vocabulary.Transform(keypoints.descriptors(), kBowMatchingLevelsUp);
+}
 
 // Matches the keyframe's map points to the frame's keypoints as SearchByDescriptor does, but comparing only
 // keypoints under the same node of the vocabulary's tree (the keyframe's direct index, and `frame_features`, the

@@ -577,7 +577,7 @@ TrackingFailure Tracker::Relocalize(Frame& frame) {
     consider(reference_keyframe_);
     for (KeyFrame* neighbour : reference_keyframe_->BestCovisibles(10)) consider(neighbour);
   }
-  const bow::ImageWords words = vocabulary_.Transform(keypoints.descriptors(), kBowMatchingLevelsUp);
+  const bow::ImageWords words = DescribePlace(vocabulary_, keypoints);
   for (KeyFrame* keyframe : map_.database().RelocalizationCandidates(
            words.bow, static_cast<std::size_t>(options_.relocalization_candidates))) {
     consider(keyframe);
