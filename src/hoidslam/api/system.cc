@@ -149,7 +149,6 @@ class System::Impl {
       : settings_(options.settings.empty() ? io::Settings{} : io::LoadSettings(options.settings)),
         detector_(MakeDetector(options)),
         session_(ToRunOptions(options, settings_), detector_.get(), {}),
-        realtime_(options.realtime),
         given_(options.detector == DetectorKind::kGiven) {}
 
   FrameResult Track(const ImageView& rgb, const ImageView& depth, double timestamp,
@@ -168,8 +167,6 @@ class System::Impl {
     frame.timestamp = timestamp;
     frame.rgb = api::ColourMat(rgb, camera.width, camera.height, "rgb");
     frame.depth = api::DepthMetres(depth, camera.width, camera.height, settings_.depth_map_factor, "depth");
-    // The detector thread reads the image after Track returns, when the caller may already reuse the buffer.
-    if (realtime_ && frame.rgb.data == rgb.data) frame.rgb = frame.rgb.clone();
     std::optional<std::vector<core::Detection>> boxes;
     if (given_) boxes = api::ToCoreDetections(detections, "detections");
     const pipeline::FrameOutcome& outcome = session_.Track(index_, frame, boxes ? &*boxes : nullptr);
@@ -184,7 +181,6 @@ class System::Impl {
   io::Settings settings_;
   std::unique_ptr<detect::Detector> detector_;  // before the session, whose detector thread uses it
   pipeline::Session session_;
-  bool realtime_;
   bool given_;
   std::size_t index_ = 0;
   double last_timestamp_ = 0.0;

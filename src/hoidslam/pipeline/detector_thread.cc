@@ -22,9 +22,13 @@ DetectorThread::DetectorThread(detect::Detector& detector, double min_millisecon
       thread_([this](std::stop_token stop) { Loop(std::move(stop)); }) {}
 
 void DetectorThread::Submit(std::size_t index, double timestamp, const cv::Mat& bgr) {
+  // The detector thread gets an image of its own: the caller's buffer is reused or freed on the caller's thread
+  // (a camera's, an API caller's), and one shared through OpenCV's reference count would be freed on whichever
+  // thread lets go last.
+  Request request{index, timestamp, bgr.clone(), std::chrono::steady_clock::now()};
   {
     std::lock_guard lock(mutex_);
-    waiting_ = Request{index, timestamp, bgr, std::chrono::steady_clock::now()};
+    waiting_ = std::move(request);
   }
   wake_.notify_one();
 }

@@ -55,7 +55,7 @@ class DetectorThread {
   DetectorThread(const DetectorThread&) = delete;
   DetectorThread& operator=(const DetectorThread&) = delete;
 
-  // Hands frame `index` over; never waits. `bgr` is shared, not copied: the caller must not write to it.
+  // Hands frame `index` over, a copy of `bgr` its own (about 0.1 ms for 640×480); never waits for the detector.
   void Submit(std::size_t index, double timestamp, const cv::Mat& bgr);
   // The newest result finished since the last call (older unclaimed ones are passed over), if any.
   std::optional<DetectorResult> TakeNewest();
