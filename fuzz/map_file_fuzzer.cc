@@ -12,7 +12,7 @@
 
 #include "fuzz/targets.h"
 #include "hoidslam/features/orb_extractor.h"
-#include "hoidslam/slam/map_file.h"
+#include "hoidslam/slam/data/map_file.h"
 
 namespace hoidslam::fuzz {
 namespace {

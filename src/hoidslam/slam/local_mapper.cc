@@ -12,8 +12,8 @@
 
 #include "hoidslam/core/error.h"
 #include "hoidslam/features/orb_extractor.h"
-#include "hoidslam/slam/fusion.h"
-#include "hoidslam/slam/matcher.h"
+#include "hoidslam/slam/match/fusion.h"
+#include "hoidslam/slam/match/matcher.h"
 
 namespace hoidslam::slam {
 namespace {

@@ -18,8 +18,8 @@
 #include <vector>
 
 #include "hoidslam/bow/vocabulary.h"
-#include "hoidslam/slam/bundle_adjustment.h"
-#include "hoidslam/slam/map.h"
+#include "hoidslam/slam/optimize/bundle_adjustment.h"
+#include "hoidslam/slam/data/map.h"
 
 namespace hoidslam::slam {
 

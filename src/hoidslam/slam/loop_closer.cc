@@ -15,9 +15,9 @@
 
 #include "hoidslam/core/error.h"
 #include "hoidslam/core/stopwatch.h"
-#include "hoidslam/slam/frame.h"
-#include "hoidslam/slam/fusion.h"
-#include "hoidslam/slam/matcher.h"
+#include "hoidslam/slam/data/frame.h"
+#include "hoidslam/slam/match/fusion.h"
+#include "hoidslam/slam/match/matcher.h"
 
 namespace hoidslam::slam {
 namespace {

@@ -28,11 +28,11 @@
 #include <vector>
 
 #include "hoidslam/core/pose.h"
-#include "hoidslam/slam/bundle_adjustment.h"
+#include "hoidslam/slam/optimize/bundle_adjustment.h"
 #include "hoidslam/slam/local_mapper.h"
-#include "hoidslam/slam/map.h"
-#include "hoidslam/slam/pose_graph.h"
-#include "hoidslam/slam/pose_optimizer.h"
+#include "hoidslam/slam/data/map.h"
+#include "hoidslam/slam/optimize/pose_graph.h"
+#include "hoidslam/slam/optimize/pose_optimizer.h"
 
 namespace hoidslam::slam {
 

@@ -8,7 +8,7 @@
 
 #include "hoidslam/core/error.h"
 #include "hoidslam/core/shipped_dir.h"
-#include "hoidslam/slam/map_file.h"
+#include "hoidslam/slam/data/map_file.h"
 
 namespace hoidslam::slam {
 

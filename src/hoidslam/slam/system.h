@@ -20,8 +20,8 @@
 #include "hoidslam/features/orb_extractor.h"
 #include "hoidslam/slam/local_mapper.h"
 #include "hoidslam/slam/loop_closer.h"
-#include "hoidslam/slam/map.h"
-#include "hoidslam/slam/sensor.h"
+#include "hoidslam/slam/data/map.h"
+#include "hoidslam/slam/data/sensor.h"
 #include "hoidslam/slam/tracker.h"
 
 namespace hoidslam::slam {

@@ -15,7 +15,7 @@
 
 #include "hoidslam/core/enum_names.h"
 #include "hoidslam/core/error.h"
-#include "hoidslam/slam/matcher.h"
+#include "hoidslam/slam/match/matcher.h"
 
 namespace hoidslam::slam {
 namespace {

@@ -18,10 +18,10 @@
 #include <vector>
 
 #include "hoidslam/bow/vocabulary.h"
-#include "hoidslam/slam/frame.h"
+#include "hoidslam/slam/data/frame.h"
 #include "hoidslam/slam/local_mapper.h"
-#include "hoidslam/slam/map.h"
-#include "hoidslam/slam/pose_optimizer.h"
+#include "hoidslam/slam/data/map.h"
+#include "hoidslam/slam/optimize/pose_optimizer.h"
 
 namespace hoidslam::slam {
 
