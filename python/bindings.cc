@@ -201,6 +201,8 @@ PYBIND11_MODULE(_hoidslam, m) {
       .def_readonly("method", &FrameResult::method)
       .def_readonly("failure", &FrameResult::failure)
       .def_readonly("keyframe", &FrameResult::keyframe)
+      .def_readonly("map", &FrameResult::map,
+                    "the map it was tracked in: 0 unless tracking was lost long in new ground and started another")
       .def_readonly("boxes", &FrameResult::boxes, "every box judged, with the verdict")
       .def_property_readonly(
           "keypoints",

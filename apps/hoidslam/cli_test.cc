@@ -206,7 +206,8 @@ TEST(Cli, SynthHelpAndListNameTheShippedScenarios) {
   const RunResult help = RunHoidslam(scratch, {"synth", "--help"});
   const RunResult list = RunHoidslam(scratch, {"synth", "--list-scenarios"});
   ASSERT_EQ(list.exit_status, 0) << list.err;
-  for (const std::string name : {"loop", "loop_static", "kidnap", "kidnap_static", "revisit_a", "revisit_b"}) {
+  for (const std::string name : {"loop", "loop_static", "kidnap", "kidnap_static", "kidnap_unmapped",
+                                 "kidnap_unmapped_static", "revisit_a", "revisit_b"}) {
     EXPECT_THAT(list.out, HasSubstr("\n" + name + "\n"));
     EXPECT_THAT(help.out, ::testing::ContainsRegex(" " + name + "[,)]"));
   }

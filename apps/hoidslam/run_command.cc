@@ -48,6 +48,8 @@ struct RunArgs {
   std::size_t frames = 0;
   bool deterministic = false;
   bool no_loop_closing = false;
+  double new_map_after = slam::TrackerOptions{}.new_map_after;
+  bool no_map_merging = false;
   std::string save_map;
   std::string load_map;
   bool localization = false;
@@ -98,18 +100,35 @@ nlohmann::json DetectionsJson(const pipeline::RunSummary& s) {
           {"boxes_grown", s.boxes_grown}};
 }
 
-// The loops closed: the frames at their two ends, the verification's inliers, and how far the correction moved the
-// keyframe that closed it.
-nlohmann::json LoopsJson(const pipeline::RunSummary& s) {
+// The loops closed (or maps merged): the frames at their two ends, the verification's inliers, and how far the
+// correction moved the keyframe that closed it (a merge: the map moved, and the map it joined).
+nlohmann::json LoopsJson(const std::vector<slam::LoopClosure>& closures) {
   nlohmann::json loops = nlohmann::json::array();
-  for (const slam::LoopClosure& loop : s.loops) {
-    loops.push_back({{"timestamp", loop.timestamp},
-                     {"loop_timestamp", loop.loop_timestamp},
-                     {"inliers", loop.inliers},
-                     {"correction_m", loop.correction_m},
-                     {"correction_deg", loop.correction_deg}});
+  for (const slam::LoopClosure& loop : closures) {
+    nlohmann::json entry = {{"timestamp", loop.timestamp},
+                            {"loop_timestamp", loop.loop_timestamp},
+                            {"inliers", loop.inliers}};
+    if (loop.merged_map) {
+      entry["merged_map"] = *loop.merged_map;
+      entry["into_map"] = loop.map;
+    } else {
+      entry["correction_m"] = loop.correction_m;
+      entry["correction_deg"] = loop.correction_deg;
+    }
+    loops.push_back(std::move(entry));
   }
   return loops;
+}
+
+// The maps frames were tracked in (after the merges): the main one's frames are in trajectory.txt.
+nlohmann::json MapsJson(const pipeline::RunSummary& s) {
+  nlohmann::json maps = nlohmann::json::array();
+  for (const slam::MapSummary& map : s.maps) {
+    const std::string trajectory =
+        map.id == s.main_map ? std::string("trajectory.txt") : pipeline::OtherMapTrajectoryName(map.id);
+    maps.push_back({{"id", map.id}, {"frames", map.frames}, {"keyframes", map.keyframes}, {"trajectory", trajectory}});
+  }
+  return maps;
 }
 
 // How long loop closing looked for loops per keyframe, and verified each candidate: count, median and largest (ms).
@@ -147,7 +166,9 @@ nlohmann::json SummaryJson(const pipeline::RunSummary& s, const std::string& seq
           {"interrupted", s.interrupted},
           {"seconds", s.seconds},
           {"frames_per_second", s.seconds > 0.0 ? static_cast<double>(s.frames) / s.seconds : 0.0},
-          {"loops", LoopsJson(s)},
+          {"loops", LoopsJson(s.loops)},
+          {"merges", LoopsJson(s.merges)},
+          {"maps", MapsJson(s)},
           {"loop_closing_ms", LoopTimingsJson(s)},
           {"detections", DetectionsJson(s)},
           {"exclusion_quality", ExclusionQualityJson(s)},
@@ -173,6 +194,8 @@ void RunRun(const RunArgs& args) {
   options.system.deterministic = args.deterministic;
   options.system.vocabulary = args.vocabulary;
   options.system.loop_closing.enabled = !args.no_loop_closing;
+  options.system.tracking.new_map_after = args.new_map_after;
+  options.system.loop_closing.merge_maps = !args.no_map_merging;
   options.system.load_map = args.load_map;
   options.system.localization = args.localization;
   options.save_map = args.save_map;
@@ -196,7 +219,8 @@ void RunRun(const RunArgs& args) {
   nlohmann::json json =
       SummaryJson(summary, sequence.name(), options.exclusion.ModeName(), detector->Name(), options.realtime);
   std::optional<eval::Evaluation> evaluation;
-  std::optional<eval::PoseCheck> relocalizations, loops;
+  std::optional<eval::PoseCheck> relocalizations, loops, merges;
+  std::vector<std::pair<slam::MapId, eval::Evaluation>> other_maps;
   const eval::PoseCheckOptions relocalization_limits;
   const fs::path groundtruth = sequence.root() / "groundtruth.txt";
   if (!sequence.groundtruth().empty()) {
@@ -219,6 +243,30 @@ void RunRun(const RunArgs& args) {
       loops = eval::CheckRelativePoses(sequence.groundtruth(), loop_poses, evaluation->options.ate.association,
                                        relocalization_limits);
       json["evaluation"]["loops"] = eval::PoseCheckToJson(*loops, relocalization_limits);
+      // A merge the same way: its two ends are in different maps, but their relative pose is measured all the same.
+      std::vector<eval::RelativePose> merge_poses;
+      for (const slam::LoopClosure& merge : summary.merges) {
+        merge_poses.push_back({merge.timestamp, merge.loop_timestamp, merge.T_loop_current});
+      }
+      merges = eval::CheckRelativePoses(sequence.groundtruth(), merge_poses, evaluation->options.ate.association,
+                                        relocalization_limits);
+      json["evaluation"]["merges"] = eval::PoseCheckToJson(*merges, relocalization_limits);
+      // Each other map on its own: its frames aligned to the ground truth by themselves.
+      json["evaluation"]["other_maps"] = nlohmann::json::array();
+      for (const slam::MapSummary& map : summary.maps) {
+        if (map.id == summary.main_map) continue;
+        const fs::path file = out.temporary() / pipeline::OtherMapTrajectoryName(map.id);
+        try {
+          eval::Evaluation other = eval::EvaluateTrajectoryFiles(groundtruth, file, {});
+          other.estimate_path = out.path() / file.filename();
+          nlohmann::json entry = eval::EvaluationToJson(other);
+          entry["map"] = map.id;
+          json["evaluation"]["other_maps"].push_back(std::move(entry));
+          other_maps.emplace_back(map.id, std::move(other));
+        } catch (const core::InputError& e) {
+          spdlog::warn("map {} not evaluated: {}", map.id, e.what());  // too few frames to align
+        }
+      }
     } catch (const core::InputError& e) {
       spdlog::warn("not evaluated: {}", e.what());
     }
@@ -229,6 +277,9 @@ void RunRun(const RunArgs& args) {
     file.Commit();
   }
   std::vector<std::string> written = {"trajectory.txt", "keyframes.txt", "map.ply", "frames.jsonl", "summary.json"};
+  for (const slam::MapSummary& map : summary.maps) {
+    if (map.id != summary.main_map) written.push_back(pipeline::OtherMapTrajectoryName(map.id));
+  }
   if (fs::is_directory(out.temporary() / "snapshots")) written.push_back("snapshots/");
   try {
     report::WriteRunReport(out.temporary(), evaluation ? groundtruth : fs::path(), out.temporary() / "report.html");
@@ -285,6 +336,24 @@ void RunRun(const RunArgs& args) {
     }
     fmt::print("\n");
   }
+  if (!summary.merges.empty()) {
+    fmt::print("maps merged: {}", summary.merges.size());
+    if (merges) {
+      fmt::print(", {} of them false (their two ends more than {:g} m or {:g}° from the true relative pose)",
+                 merges->Wrong(), relocalization_limits.max_position_error,
+                 relocalization_limits.max_rotation_error_deg);
+    }
+    fmt::print("\n");
+  }
+  for (const slam::MapSummary& map : summary.maps) {
+    if (map.id == summary.main_map) continue;
+    fmt::print("map {}: {} frames tracked in a map of its own, never merged ({})", map.id, map.frames,
+               pipeline::OtherMapTrajectoryName(map.id));
+    const auto other =
+        std::find_if(other_maps.begin(), other_maps.end(), [&](const auto& m) { return m.first == map.id; });
+    if (other != other_maps.end()) fmt::print(", ATE RMSE {:.4f} m on its own", other->second.ate.error.rmse);
+    fmt::print("\n");
+  }
   fmt::print("wrote {}/ ({})\n", out.path().string(), fmt::join(written, ", "));
   if (summary.interrupted) {
     spdlog::warn("interrupted after {} of {} frames; the outputs hold the frames done", summary.frames, sequence.size());
@@ -334,6 +403,15 @@ void AddRunCommand(CLI::App& app) {
   command->add_option("--frames", args->frames, "Run only the first N frames (0 = all)")->capture_default_str();
   command->add_flag("--no-loop-closing", args->no_loop_closing,
                     "Do not close loops: the map keeps the drift of the path back to a place it has seen");
+  command->add_option("--new-map-after", args->new_map_after,
+                      "Seconds lost before the camera is taken to be in new ground and a new map is started (the "
+                      "frames are still looked for in every map; the new map is merged once it sees a place of "
+                      "another). 0: never, stay lost until relocalised")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  command->add_flag("--no-map-merging", args->no_map_merging,
+                    "Do not merge maps: the frames of a map started in new ground stay in its own world frame "
+                    "(trajectory-map<id>.txt)");
   command->add_option("--save-map", args->save_map,
                       "Write the final map (keyframes, points, covisibility, camera and vocabulary) to this map file "
                       "(docs/slam.md, \"Map reuse\")");

@@ -71,6 +71,9 @@ class FrameResult:
     @property
     def keyframe(self) -> bool: ...
     @property
+    def map(self) -> int:
+        """The map it was tracked in: 0 unless tracking was lost long in new ground and started another."""
+    @property
     def boxes(self) -> list[JudgedBox]: ...
     @property
     def keypoints(self) -> npt.NDArray[np.float32]:

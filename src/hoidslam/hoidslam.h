@@ -152,6 +152,9 @@ struct FrameResult {
   std::string method;   // how the pose was found: initialization, motion_model, reference_keyframe, relocalization, none
   std::string failure;  // why a lost frame was lost: too_few_keypoints, too_few_matches, pose_rejected; else empty
   bool keyframe = false;
+  // The map it was tracked in: 0 unless tracking was lost long in new ground and started another (docs/slam.md,
+  // "Several maps"); a later merge may join that map to the first. Trajectory() holds the main map's frames.
+  std::uint32_t map = 0;
   std::vector<JudgedBox> boxes;  // every box judged, with the verdict
   Keypoints keypoints;
   std::size_t extracted = 0;  // keypoints of the first extraction, over the whole image
@@ -194,7 +197,8 @@ class System {
   // Idempotent; the destructor calls it.
   void Finish();
 
-  // Every tracked frame, placed relative to its reference keyframe as the map has it now (final after Finish).
+  // Every frame tracked in the main map (the one with the most frames: FrameResult::map), placed relative to its
+  // reference keyframe as the map has it now (final after Finish); the keyframes and points of that map.
   std::vector<StampedPose> Trajectory() const;
   std::vector<StampedPose> KeyFrames() const;
   std::vector<MapPoint> MapPoints() const;

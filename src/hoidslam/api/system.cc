@@ -103,6 +103,7 @@ FrameResult ToFrameResult(std::size_t index, double timestamp, const pipeline::F
   r.method = slam::ToString(track.method);
   if (track.failure != slam::TrackingFailure::kNone) r.failure = slam::ToString(track.failure);
   r.keyframe = track.keyframe;
+  if (track.T_cw) r.map = track.map;
   r.boxes = api::ToJudgedBoxes(outcome.boxes);
   const std::vector<cv::KeyPoint>& keypoints = outcome.features.keypoints;
   r.keypoints.xy.resize(2 * keypoints.size());

@@ -85,6 +85,8 @@ RunOptions RunOptions::FromSettings(const io::Settings& settings) {
   return options;
 }
 
+std::string OtherMapTrajectoryName(slam::MapId map) { return fmt::format("trajectory-map{}.txt", map); }
+
 std::optional<std::string> DetectOrKeepPrevious(detect::Detector& detector, const core::RgbdFrame& frame,
                                                 std::size_t index, std::vector<core::Detection>& detections) {
   try {

@@ -5,9 +5,11 @@
 // around it.
 //
 // Outputs, in the folder given (each file complete or absent):
-//   trajectory.txt  every tracked frame, TUM format, camera-to-world (lost frames left out)
-//   keyframes.txt   the keyframes, TUM format
-//   map.ply         the sparse map, coloured
+//   trajectory.txt  every frame tracked in the main map, TUM format, camera-to-world (lost frames left out)
+//   keyframes.txt   the main map's keyframes, TUM format
+//   map.ply         the main map's points, coloured
+//   trajectory-map<id>.txt  the frames tracked in each other map never merged into the main one (slam::System::Maps:
+//                   tracking lost long in new ground starts a map of its own world frame)
 //   frames.jsonl    one JSON object per frame: state (and why a lost frame was lost), features extracted /
 //                   dropped / kept for tracking / matched / inliers, the dynamic detections with their reasons
 //                   (hoidplus: every box, with track, carry and foreground depth, and the map points its safety
@@ -94,7 +96,7 @@ struct StageTimes {
 
 struct RunSummary {
   std::size_t frames = 0;            // frames processed
-  std::size_t tracked = 0;           // in trajectory.txt
+  std::size_t tracked = 0;           // in any map (trajectory.txt holds the main map's)
   std::size_t lost = 0;              // after initialisation, not tracked
   std::size_t before_initialization = 0;  // before the map could start (too few keypoints with depth)
   std::size_t keyframes = 0;
@@ -106,7 +108,10 @@ struct RunSummary {
   std::size_t moving_points = 0;     // map points the safety net erased (hoidplus)
   std::size_t dropped = 0;           // frames a paced run passed over, arriving while the system was busy
   std::vector<double> relocalized;   // stamps of the frames relocalisation found again after a loss
-  std::vector<slam::LoopClosure> loops;  // closed, in order
+  std::vector<slam::LoopClosure> loops;   // closed, in order
+  std::vector<slam::LoopClosure> merges;  // of two maps, in order
+  std::vector<slam::MapSummary> maps;     // with tracked frames, by id
+  slam::MapId main_map = 0;
   slam::LoopCloser::Timings loop_timings;
   std::vector<StageTimes> times;     // one per frame
   // Per frame judged by detections: how many frames and ms (of the recording) the detections were older than the
@@ -121,6 +126,9 @@ struct RunSummary {
   bool still_people_scored = false;  // it also has people masks: exclusion's static_dropped_on_still_people counts
   bool interrupted = false;          // stopped early by the caller; the outputs hold the frames done
 };
+
+// The name of the trajectory file of a map other than the main one: trajectory-map<id>.txt.
+std::string OtherMapTrajectoryName(slam::MapId map);
 
 // Asks `detector` for the frame's boxes. When it fails, `detections` keeps the previous frame's boxes (the people
 // seen a frame ago are the best guess for this one), the failure is logged, and its message is returned.

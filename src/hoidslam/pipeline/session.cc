@@ -258,6 +258,7 @@ const FrameOutcome& Session::Track(std::size_t index, const core::RgbdFrame& fra
   entry["method"] = slam::ToString(result.method);
   if (result.failure != slam::TrackingFailure::kNone) entry["failure"] = slam::ToString(result.failure);
   entry["keyframe"] = result.keyframe;
+  if (result.T_cw) entry["map"] = result.map;
   entry["features"] = {{"extracted", out.extracted},
                        {"dropped", out.dropped},
                        {"kept", kept},
@@ -280,12 +281,20 @@ void Session::Finish() {
   system_->Finish();
   if (!options_.save_map.empty()) system_->SaveMap(options_.save_map);
   summary_.loops = system_->LoopClosures();
+  summary_.merges = system_->MapMerges();
+  summary_.maps = system_->Maps();
+  summary_.main_map = system_->MainMap();
   summary_.loop_timings = system_->LoopClosingTimings();
   finished_ = true;
 }
 
 void Session::WriteOutputs(const std::filesystem::path& folder) {
-  io::WriteTumTrajectory(folder / "trajectory.txt", system_->FrameTrajectory());
+  io::WriteTumTrajectory(folder / "trajectory.txt", system_->FrameTrajectory(summary_.main_map));
+  for (const slam::MapSummary& map : summary_.maps) {
+    if (map.id != summary_.main_map) {
+      io::WriteTumTrajectory(folder / OtherMapTrajectoryName(map.id), system_->FrameTrajectory(map.id));
+    }
+  }
   const core::Trajectory keyframes = system_->KeyFrameTrajectory();
   io::WriteTumTrajectory(folder / "keyframes.txt", keyframes);
   std::vector<io::ColoredPoint> cloud;

@@ -398,7 +398,7 @@ void LocalMapper::RunLocalBundleAdjustment(KeyFrame* keyframe) {
   std::vector<MapPoint*> points;       // problem index → point
   {
     std::shared_lock lock(map_.mutex());
-    if (map_.NumKeyFrames() < 2) return;
+    if (map_.NumKeyFrames(keyframe->map_id()) < 2) return;
     problem.camera = keyframe->keypoints().sensor().camera;
     std::unordered_map<const KeyFrame*, int> keyframe_index;
     const auto add_keyframe = [&](KeyFrame* k, bool fixed) {
@@ -406,7 +406,7 @@ void LocalMapper::RunLocalBundleAdjustment(KeyFrame* keyframe) {
       keyframes.push_back(k);
       problem.T_cw.push_back(k->T_cw());
       // The first keyframe anchors the world frame and the scale of nothing else: it never moves.
-      problem.pose_fixed.push_back(fixed || k == map_.first_keyframe() ? 1 : 0);
+      problem.pose_fixed.push_back(fixed || map_.IsOrigin(k) ? 1 : 0);
     };
     add_keyframe(keyframe, false);
     for (const auto& [neighbour, weight] : keyframe->covisibles()) {
@@ -463,7 +463,7 @@ void LocalMapper::CullKeyFrames(KeyFrame* keyframe) {
   // same or a finer scale.
   const std::vector<KeyFrame*> neighbours = keyframe->BestCovisibles(keyframe->covisibles().size());
   for (KeyFrame* candidate : neighbours) {
-    if (candidate->bad() || candidate == map_.first_keyframe()) continue;
+    if (candidate->bad() || map_.IsOrigin(candidate)) continue;
     const KeypointSet& keypoints = candidate->keypoints();
     int close_points = 0, redundant = 0;
     for (int i = 0; i < keypoints.size(); ++i) {

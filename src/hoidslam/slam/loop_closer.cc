@@ -186,12 +186,12 @@ void LoopCloser::Process(KeyFrame* keyframe) {
     std::shared_lock lock(map_.mutex());
     if (keyframe->bad()) return;
     const auto min_keyframes = static_cast<KeyFrameId>(options_.min_keyframes);
-    if (map_.NumKeyFrames() < min_keyframes ||
-        (last_loop_keyframe_id_ && keyframe->id() < *last_loop_keyframe_id_ + min_keyframes)) {
-      return;
-    }
+    const bool loops = options_.enabled && map_.NumKeyFrames(keyframe->map_id()) >= min_keyframes &&
+                       !(last_loop_keyframe_id_ && keyframe->id() < *last_loop_keyframe_id_ + min_keyframes);
+    const bool merges = options_.merge_maps && map_.Maps().size() > 1;
+    if (!loops && !merges) return;
     core::Stopwatch watch;
-    const std::vector<KeyFrame*> candidates = ConsistentCandidates(keyframe);
+    const std::vector<KeyFrame*> candidates = ConsistentCandidates(keyframe, loops, merges);
     std::vector<double> detection_ms = {watch.ElapsedMilliseconds()}, verification_ms;
     for (KeyFrame* candidate : candidates) {
       watch.Restart();
@@ -205,8 +205,13 @@ void LoopCloser::Process(KeyFrame* keyframe) {
   }
   if (loop.loop == nullptr) return;
   StopGlobalBundleAdjustment();  // it refines a map about to change
-  Correct(keyframe, loop);
-  if (options_.global_bundle_adjustment) StartGlobalBundleAdjustment();
+  // (Map ids change only under the exclusive lock, which only this thread takes to merge.)
+  if (loop.loop->map_id() == keyframe->map_id()) {
+    Correct(keyframe, loop);
+  } else {
+    Merge(keyframe, loop);
+  }
+  if (options_.enabled && options_.global_bundle_adjustment) StartGlobalBundleAdjustment(loop.loop->map_id());
 }
 
 std::unique_lock<std::shared_mutex> LoopCloser::LockStillMap() {
@@ -220,12 +225,12 @@ std::unique_lock<std::shared_mutex> LoopCloser::LockStillMap() {
   return lock;
 }
 
-void LoopCloser::StartGlobalBundleAdjustment() {
+void LoopCloser::StartGlobalBundleAdjustment(MapId map) {
   abort_global_ = false;
   if (threaded_) {
-    global_thread_ = std::jthread([this] { RunGlobalBundleAdjustment(); });
+    global_thread_ = std::jthread([this, map] { RunGlobalBundleAdjustment(map); });
   } else {
-    RunGlobalBundleAdjustment();
+    RunGlobalBundleAdjustment(map);
   }
 }
 
@@ -235,22 +240,22 @@ void LoopCloser::StopGlobalBundleAdjustment() {
   global_thread_.join();
 }
 
-void LoopCloser::RunGlobalBundleAdjustment() {
+void LoopCloser::RunGlobalBundleAdjustment(MapId map) {
   BundleAdjustmentProblem problem;
   std::vector<KeyFrame*> keyframes;
   std::vector<MapPoint*> points;
   std::unordered_map<const KeyFrame*, std::size_t> keyframe_index;
   {
     std::shared_lock lock(map_.mutex());
-    keyframes = map_.KeyFrames();
+    keyframes = map_.KeyFrames(map);
     if (keyframes.size() < 2) return;
     problem.camera = keyframes.front()->keypoints().sensor().camera;
     for (KeyFrame* k : keyframes) {
       keyframe_index.emplace(k, problem.T_cw.size());
       problem.T_cw.push_back(k->T_cw());
-      problem.pose_fixed.push_back(k == map_.first_keyframe() ? 1 : 0);
+      problem.pose_fixed.push_back(map_.IsOrigin(k) ? 1 : 0);
     }
-    for (MapPoint* p : map_.MapPoints()) {
+    for (MapPoint* p : map_.MapPoints(map)) {
       const int index = static_cast<int>(points.size());
       for (const MapPoint::Observation& o : p->observations()) {
         const auto k = keyframe_index.find(o.keyframe);
@@ -272,7 +277,7 @@ void LoopCloser::RunGlobalBundleAdjustment() {
   const std::unique_lock lock = LockStillMap();
   // Each keyframe's pose before and after; keyframes made since the copy move with their parent (an older one).
   std::unordered_map<const KeyFrame*, std::pair<core::Pose, core::Pose>> moved;
-  for (KeyFrame* k : map_.KeyFrames()) {
+  for (KeyFrame* k : map_.KeyFrames(map)) {
     const auto index = keyframe_index.find(k);
     if (index != keyframe_index.end()) {
       moved.emplace(k, std::pair(k->T_cw(), problem.T_cw[index->second]));
@@ -284,7 +289,7 @@ void LoopCloser::RunGlobalBundleAdjustment() {
   // Points take their adjusted positions; points made since move with their reference keyframe.
   std::unordered_map<const MapPoint*, std::size_t> point_index;
   for (std::size_t i = 0; i < points.size(); ++i) point_index.emplace(points[i], i);
-  for (MapPoint* p : map_.MapPoints()) {
+  for (MapPoint* p : map_.MapPoints(map)) {
     if (const auto index = point_index.find(p); index != point_index.end()) {
       p->SetPosition(problem.points_w[index->second]);
     } else if (const auto reference = moved.find(p->reference_keyframe()); reference != moved.end()) {
@@ -292,21 +297,26 @@ void LoopCloser::RunGlobalBundleAdjustment() {
       p->SetPosition(after.inverse() * (before * p->position()));
     }
   }
-  for (KeyFrame* k : map_.KeyFrames()) {
+  for (KeyFrame* k : map_.KeyFrames(map)) {
     if (const auto m = moved.find(k); m != moved.end()) k->SetPose(m->second.second);
   }
-  for (MapPoint* p : map_.MapPoints()) map_.UpdatePoint(p);
+  for (MapPoint* p : map_.MapPoints(map)) map_.UpdatePoint(p);
   ++global_adjustments_;
   spdlog::debug("global bundle adjustment: {} keyframes, {} points", keyframes.size(), points.size());
 }
 
-std::vector<KeyFrame*> LoopCloser::ConsistentCandidates(KeyFrame* keyframe) {
+std::vector<KeyFrame*> LoopCloser::ConsistentCandidates(KeyFrame* keyframe, bool loops, bool merges) {
   // A candidate must look at least as much like the keyframe as the keyframe's least similar neighbour does.
   double min_score = 1.0;
   for (const auto& [neighbour, weight] : keyframe->covisibles()) {
     if (!neighbour->bad()) min_score = std::min(min_score, bow::Score(keyframe->words().bow, neighbour->words().bow));
   }
-  const std::vector<KeyFrame*> candidates = map_.database().LoopCandidates(*keyframe, min_score);
+  std::vector<KeyFrame*> candidates;
+  if (loops) candidates = map_.database().LoopCandidates(*keyframe, min_score);
+  if (merges) {
+    const std::vector<KeyFrame*> other_maps = map_.database().MergeCandidates(*keyframe, min_score);
+    candidates.insert(candidates.end(), other_maps.begin(), other_maps.end());
+  }
 
   // Each candidate's place (it and its neighbours) continues a place the previous keyframe saw, or starts anew.
   std::vector<ConsistentGroup> groups;
@@ -391,10 +401,10 @@ bool LoopCloser::Verify(KeyFrame* keyframe, KeyFrame* candidate, VerifiedLoop& l
   if (inliers < options_.min_inliers) return false;
 
   // The correction must be one the drift since the place could have made: a texture met twice elsewhere puts the
-  // keyframe where the other copy is.
+  // keyframe where the other copy is. (Between two maps there is no drift to compare with.)
   double path = 0.0;
   const KeyFrame* previous = nullptr;
-  for (const KeyFrame* k : map_.KeyFrames()) {
+  for (const KeyFrame* k : map_.KeyFrames(keyframe->map_id())) {
     if (k->id() < candidate->id() || k->id() > keyframe->id()) continue;
     if (previous != nullptr) path += (k->center() - previous->center()).norm();
     previous = k;
@@ -402,8 +412,9 @@ bool LoopCloser::Verify(KeyFrame* keyframe, KeyFrame* candidate, VerifiedLoop& l
   const core::Pose correction = probe.T_cw * keyframe->T_wc();
   const double correction_m = correction.inverse().translation().norm();
   const double correction_deg = core::RotationAngleDegrees(correction.linear());
-  if (correction_m > options_.max_drift_m + options_.max_drift_share * path ||
-      correction_deg > options_.max_drift_deg + options_.max_drift_deg_per_m * path) {
+  if (candidate->map_id() == keyframe->map_id() &&
+      (correction_m > options_.max_drift_m + options_.max_drift_share * path ||
+       correction_deg > options_.max_drift_deg + options_.max_drift_deg_per_m * path)) {
     spdlog::debug("loop: keyframe {} and keyframe {}: a correction of {:.3f} m and {:.2f}° after {:.2f} m of path is "
                   "more than drift", keyframe->id(), candidate->id(), correction_m, correction_deg, path);
     return false;
@@ -473,8 +484,93 @@ void LoopCloser::Correct(KeyFrame* keyframe, const VerifiedLoop& loop) {
     }
   }
 
-  // The two ends of the loop become one: the place's points take over the keyframe's keypoints they matched, and
-  // the place's neighbourhood is fused into the keyframe's.
+  const std::vector<std::pair<KeyFrame*, KeyFrame*>> loop_connections = Join(keyframe, connected, loop);
+
+  // The essential graph: the spanning tree, earlier loops and strong covisibility as they were measured (the
+  // neighbourhood's poses before this correction), and the new connections across the loop as they are now.
+  PoseGraphProblem problem;
+  const MapId map = keyframe->map_id();
+  const std::vector<KeyFrame*> keyframes = map_.KeyFrames(map);
+  std::unordered_map<const KeyFrame*, int> index;
+  for (KeyFrame* k : keyframes) {
+    index.emplace(k, static_cast<int>(problem.T_cw.size()));
+    problem.T_cw.push_back(k->T_cw());
+    problem.pose_fixed.push_back(k == place || map_.IsOrigin(k) ? 1 : 0);
+  }
+  const auto measured = [&](const KeyFrame* k) {
+    const auto it = uncorrected.find(k);
+    return it != uncorrected.end() ? it->second : k->T_cw();
+  };
+  std::set<std::pair<int, int>> joined;
+  const auto add_edge = [&](const KeyFrame* a, const KeyFrame* b, const core::Pose& T_a_b) {
+    const auto ia = index.find(a), ib = index.find(b);
+    if (ia == index.end() || ib == index.end() || ia->second == ib->second) return;
+    if (!joined.emplace(std::minmax(ia->second, ib->second)).second) return;
+    problem.edges.push_back({ia->second, ib->second, T_a_b});
+  };
+  for (const auto& [a, b] : loop_connections) add_edge(a, b, a->T_cw() * b->T_wc());
+  for (const KeyFrame* k : keyframes) {
+    if (k->parent() != nullptr) add_edge(k, k->parent(), measured(k) * measured(k->parent()).inverse());
+    for (const KeyFrame* other : k->loop_edges()) add_edge(k, other, measured(k) * measured(other).inverse());
+    for (const auto& [neighbour, weight] : k->covisibles()) {
+      if (weight >= options_.essential_graph_min_weight) {
+        add_edge(k, neighbour, measured(k) * measured(neighbour).inverse());
+      }
+    }
+  }
+  std::vector<core::Pose> T_cw_before_graph = problem.T_cw;
+  lock.unlock();
+
+  // Tracking goes on meanwhile (it makes no keyframe): the graph needs no lock.
+  OptimizePoseGraph(problem, options_.essential_graph);
+
+  lock.lock();
+  // Each point moves with the keyframe that placed it: the one that corrected it above, or its reference.
+  const std::vector<MapPoint*> points = map_.MapPoints(map);
+  for (MapPoint* p : points) {
+    const auto by = corrected_by.find(p);
+    const KeyFrame* reference = by != corrected_by.end() ? by->second : p->reference_keyframe();
+    auto it = reference != nullptr ? index.find(reference) : index.end();
+    for (auto o = p->observations().begin(); it == index.end() && o != p->observations().end(); ++o) {
+      it = index.find(o->keyframe);
+    }
+    if (it == index.end()) continue;
+    const auto k = static_cast<std::size_t>(it->second);
+    p->SetPosition(problem.T_cw[k].inverse() * (T_cw_before_graph[k] * p->position()));
+  }
+  for (std::size_t k = 0; k < keyframes.size(); ++k) {
+    if (!keyframes[k]->bad()) keyframes[k]->SetPose(problem.T_cw[k]);
+  }
+  for (MapPoint* p : points) map_.UpdatePoint(p);
+  map_.AddLoopEdge(keyframe, place);
+  last_loop_keyframe_id_ = keyframe->id();
+  Record(keyframe, loop, T_cw_before, std::nullopt);
+}
+
+void LoopCloser::Merge(KeyFrame* keyframe, const VerifiedLoop& loop) {
+  const LocalMapper::PauseGuard pause = local_mapper_.Pause();
+  const std::unique_lock lock = LockStillMap();
+  KeyFrame* place = loop.loop;
+  if (keyframe->bad() || place->bad() || keyframe->map_id() == place->map_id()) return;
+  const MapId from = keyframe->map_id();
+  const core::Pose T_cw_before = keyframe->T_cw();
+  // The whole map moves rigidly to where the keyframe's verified pose puts it in the place's map: an RGB-D map has
+  // its scale, and what it drifted since it started is left to local mapping and the next loop.
+  map_.MergeMaps(from, place->map_id(), loop.T_cw.inverse() * keyframe->T_cw());
+  map_.UpdateConnections(keyframe);
+  std::vector<KeyFrame*> connected = {keyframe};
+  for (const auto& [neighbour, weight] : keyframe->covisibles()) {
+    if (!neighbour->bad()) connected.push_back(neighbour);
+  }
+  Join(keyframe, connected, loop);
+  map_.AddLoopEdge(keyframe, place);
+  Record(keyframe, loop, T_cw_before, from);
+}
+
+std::vector<std::pair<KeyFrame*, KeyFrame*>> LoopCloser::Join(KeyFrame* keyframe,
+                                                               const std::vector<KeyFrame*>& connected,
+                                                               const VerifiedLoop& loop) {
+  const KeyFrame* place = loop.loop;
   const KeypointSet& keypoints = keyframe->keypoints();
   for (int i = 0; i < keypoints.size(); ++i) {
     MapPoint* point = loop.matches[static_cast<std::size_t>(i)];
@@ -516,64 +612,12 @@ void LoopCloser::Correct(KeyFrame* keyframe, const VerifiedLoop& loop) {
       }
     }
   }
+  return loop_connections;
+}
 
-  // The essential graph: the spanning tree, earlier loops and strong covisibility as they were measured (the
-  // neighbourhood's poses before this correction), and the new connections across the loop as they are now.
-  PoseGraphProblem problem;
-  const std::vector<KeyFrame*> keyframes = map_.KeyFrames();
-  std::unordered_map<const KeyFrame*, int> index;
-  for (KeyFrame* k : keyframes) {
-    index.emplace(k, static_cast<int>(problem.T_cw.size()));
-    problem.T_cw.push_back(k->T_cw());
-    problem.pose_fixed.push_back(k == place || k == map_.first_keyframe() ? 1 : 0);
-  }
-  const auto measured = [&](const KeyFrame* k) {
-    const auto it = uncorrected.find(k);
-    return it != uncorrected.end() ? it->second : k->T_cw();
-  };
-  std::set<std::pair<int, int>> joined;
-  const auto add_edge = [&](const KeyFrame* a, const KeyFrame* b, const core::Pose& T_a_b) {
-    const auto ia = index.find(a), ib = index.find(b);
-    if (ia == index.end() || ib == index.end() || ia->second == ib->second) return;
-    if (!joined.emplace(std::minmax(ia->second, ib->second)).second) return;
-    problem.edges.push_back({ia->second, ib->second, T_a_b});
-  };
-  for (const auto& [a, b] : loop_connections) add_edge(a, b, a->T_cw() * b->T_wc());
-  for (const KeyFrame* k : keyframes) {
-    if (k->parent() != nullptr) add_edge(k, k->parent(), measured(k) * measured(k->parent()).inverse());
-    for (const KeyFrame* other : k->loop_edges()) add_edge(k, other, measured(k) * measured(other).inverse());
-    for (const auto& [neighbour, weight] : k->covisibles()) {
-      if (weight >= options_.essential_graph_min_weight) {
-        add_edge(k, neighbour, measured(k) * measured(neighbour).inverse());
-      }
-    }
-  }
-  std::vector<core::Pose> T_cw_before_graph = problem.T_cw;
-  lock.unlock();
-
-  // Tracking goes on meanwhile (it makes no keyframe): the graph needs no lock.
-  OptimizePoseGraph(problem, options_.essential_graph);
-
-  lock.lock();
-  // Each point moves with the keyframe that placed it: the one that corrected it above, or its reference.
-  for (MapPoint* p : map_.MapPoints()) {
-    const auto by = corrected_by.find(p);
-    const KeyFrame* reference = by != corrected_by.end() ? by->second : p->reference_keyframe();
-    auto it = reference != nullptr ? index.find(reference) : index.end();
-    for (auto o = p->observations().begin(); it == index.end() && o != p->observations().end(); ++o) {
-      it = index.find(o->keyframe);
-    }
-    if (it == index.end()) continue;
-    const auto k = static_cast<std::size_t>(it->second);
-    p->SetPosition(problem.T_cw[k].inverse() * (T_cw_before_graph[k] * p->position()));
-  }
-  for (std::size_t k = 0; k < keyframes.size(); ++k) {
-    if (!keyframes[k]->bad()) keyframes[k]->SetPose(problem.T_cw[k]);
-  }
-  for (MapPoint* p : map_.MapPoints()) map_.UpdatePoint(p);
-  map_.AddLoopEdge(keyframe, place);
-  last_loop_keyframe_id_ = keyframe->id();
-
+void LoopCloser::Record(const KeyFrame* keyframe, const VerifiedLoop& loop, const core::Pose& T_cw_before,
+                        std::optional<MapId> merged_map) {
+  const KeyFrame* place = loop.loop;
   LoopClosure closure;
   closure.frame_id = keyframe->frame_id();
   closure.timestamp = keyframe->timestamp();
@@ -581,11 +625,16 @@ void LoopCloser::Correct(KeyFrame* keyframe, const VerifiedLoop& loop) {
   closure.loop_timestamp = place->timestamp();
   closure.T_loop_current = place->T_cw() * keyframe->T_wc();
   closure.inliers = loop.inliers;
-  const core::Pose moved = keyframe->T_cw() * T_cw_before.inverse();
-  closure.correction_m = (keyframe->center() - T_cw_before.inverse().translation()).norm();
-  closure.correction_deg = core::RotationAngleDegrees(moved.linear());
-  spdlog::debug("loop closed: keyframe {} (frame {}) with keyframe {} (frame {}), {} inliers, corrected {:.3f} m "
-                "{:.2f}°", keyframe->id(), keyframe->frame_id(), place->id(), place->frame_id(), loop.inliers,
+  closure.map = place->map_id();
+  closure.merged_map = merged_map;
+  if (!merged_map) {
+    const core::Pose moved = keyframe->T_cw() * T_cw_before.inverse();
+    closure.correction_m = (keyframe->center() - T_cw_before.inverse().translation()).norm();
+    closure.correction_deg = core::RotationAngleDegrees(moved.linear());
+  }
+  spdlog::debug("{}: keyframe {} (frame {}) with keyframe {} (frame {}), {} inliers, corrected {:.3f} m {:.2f}°",
+                merged_map ? fmt::format("map {} merged into map {}", *merged_map, closure.map) : "loop closed",
+                keyframe->id(), keyframe->frame_id(), place->id(), place->frame_id(), loop.inliers,
                 closure.correction_m, closure.correction_deg);
   std::lock_guard closures_lock(closures_mutex_);
   closures_.push_back(closure);

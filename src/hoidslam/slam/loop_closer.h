@@ -6,6 +6,10 @@
 // scale), the two ends of the loop are joined (poses and points of the keyframe's neighbourhood moved, duplicate
 // points fused), and the essential graph spreads the correction over the keyframes in between.
 //
+// The same recognition merges maps (the Atlas, map.h): a keyframe that recognises a place of another map, verified
+// the same way (without the drift limit: two maps' world frames are unrelated), carries its whole map into the
+// other's world frame, and the two ends are joined as a loop's are.
+//
 // Only keypoints the exclusion filter kept ever reach a keyframe, so a loop is never closed on a person.
 //
 // Threads: in the default mode Start() runs it in its own thread, fed by local mapping; in the deterministic mode
@@ -37,7 +41,8 @@
 namespace hoidslam::slam {
 
 struct LoopClosingOptions {
-  bool enabled = true;
+  bool enabled = true;     // loops are closed (--no-loop-closing: off)
+  bool merge_maps = true;  // maps are merged where one recognises a place of another
   // Keyframes the map needs, and keyframes since the last loop, before a loop is looked for.
   int min_keyframes = 10;
   // A place must be recognised by this many keyframes in a row (ORB-SLAM: 3): one look-alike is not a loop.
@@ -86,8 +91,10 @@ struct LoopClosure {
   double loop_timestamp = 0.0;
   core::Pose T_loop_current;  // camera of the current keyframe into the loop keyframe's camera
   int inliers = 0;
-  double correction_m = 0.0;    // how far the current keyframe was moved
+  double correction_m = 0.0;    // how far the current keyframe was moved (a merge: 0, its map's frame is gone)
   double correction_deg = 0.0;  // and turned
+  MapId map = 0;  // the map the loop was closed in (a merge: the map the other was merged into)
+  std::optional<MapId> merged_map;  // a merge: the map that was moved into `map`
 };
 
 class LoopCloser {
@@ -136,17 +143,26 @@ class LoopCloser {
 
   KeyFrame* NextKeyFrame();
   void Process(KeyFrame* keyframe);
-  // The candidates recognised by enough keyframes in a row; updates consistent_groups_. Shared lock held.
-  std::vector<KeyFrame*> ConsistentCandidates(KeyFrame* keyframe);
+  // The candidates recognised by enough keyframes in a row, in the keyframe's map (`loops`) and in the others
+  // (`merges`); updates consistent_groups_. Shared lock held.
+  std::vector<KeyFrame*> ConsistentCandidates(KeyFrame* keyframe, bool loops, bool merges);
   // Shared lock held.
   bool Verify(KeyFrame* keyframe, KeyFrame* candidate, VerifiedLoop& loop) const;
   void Correct(KeyFrame* keyframe, const VerifiedLoop& loop);
+  void Merge(KeyFrame* keyframe, const VerifiedLoop& loop);
+  // Makes the two ends one, the keyframe's `connected` neighbourhood already moved to where the loop puts it: the
+  // place's points take over the keyframe's keypoints they matched, and the place's neighbourhood is fused into
+  // `connected`. Returns the covisibility edges this made across the loop. Exclusive lock held.
+  std::vector<std::pair<KeyFrame*, KeyFrame*>> Join(KeyFrame* keyframe, const std::vector<KeyFrame*>& connected,
+                                                    const VerifiedLoop& loop);
+  void Record(const KeyFrame* keyframe, const VerifiedLoop& loop, const core::Pose& T_cw_before,
+              std::optional<MapId> merged_map);
   // Pauses local mapping and locks the map exclusively once local mapping stands still (LocalMapper::Pause).
   std::unique_lock<std::shared_mutex> LockStillMap();
-  // The global bundle adjustment: in its own thread when the closer runs in one, else in the caller's.
-  void StartGlobalBundleAdjustment();
+  // The global bundle adjustment of one map: in its own thread when the closer runs in one, else in the caller's.
+  void StartGlobalBundleAdjustment(MapId map);
   void StopGlobalBundleAdjustment();  // stops it early and waits for it
-  void RunGlobalBundleAdjustment();
+  void RunGlobalBundleAdjustment(MapId map);
   void Loop(std::stop_token stop);
 
   Map& map_;

@@ -42,11 +42,23 @@ LocalMapperOptions MapperOptions(const SystemOptions& options) {
   return mapping;
 }
 
-// Local mapping hands each keyframe it has mapped to loop closing, when that is on. (The closer is constructed
-// after the mapper, but no keyframe is mapped before both stand.)
+// Local mapping hands each keyframe it has mapped to loop closing, when it closes loops or merges maps. (The closer
+// is constructed after the mapper, but no keyframe is mapped before both stand.)
 std::function<void(KeyFrame*)> MappedCallback(const SystemOptions& options, LoopCloser& loop_closer) {
-  if (!options.loop_closing.enabled) return {};
+  if (!options.loop_closing.enabled && !options.loop_closing.merge_maps) return {};
   return [&loop_closer](KeyFrame* keyframe) { loop_closer.Insert(keyframe); };
+}
+
+// Where a frame stands in the final map: its reference keyframe's map, and its pose. A culled reference keyframe
+// kept its pose relative to its parent: the chain is followed to a live one.
+std::pair<MapId, core::Pose> Place(const Tracker::FrameRecord& record) {
+  const KeyFrame* reference = record.reference;
+  core::Pose T_cr = record.T_cr;
+  while (reference->bad()) {
+    T_cr = T_cr * reference->T_cp();
+    reference = reference->parent();
+  }
+  return {reference->map_id(), (T_cr * reference->T_cw()).inverse()};
 }
 
 }  // namespace
@@ -137,49 +149,80 @@ void System::Finish() {
 }
 
 void System::SaveMap(const std::filesystem::path& path) const {
+  const MapId main = MainMap();
   std::shared_lock lock(map_.mutex());
-  slam::SaveMap(map_, *sensor_, vocabulary_, path);
+  slam::SaveMap(map_, main, *sensor_, vocabulary_, path);
 }
 
-core::Trajectory System::FrameTrajectory() const {
+std::vector<MapSummary> System::Maps() const {
+  std::shared_lock lock(map_.mutex());
+  std::vector<MapSummary> maps;
+  for (const MapId id : map_.Maps()) maps.push_back({id, 0, map_.NumKeyFrames(id)});
+  for (const Tracker::FrameRecord& record : tracker_.records()) {
+    if (record.reference == nullptr) continue;
+    const MapId id = Place(record).first;
+    const auto map = std::find_if(maps.begin(), maps.end(), [id](const MapSummary& m) { return m.id == id; });
+    if (map != maps.end()) ++map->frames;
+  }
+  std::erase_if(maps, [](const MapSummary& m) { return m.frames == 0; });
+  return maps;
+}
+
+MapId System::MainMap() const {
+  const std::vector<MapSummary> maps = Maps();
+  const auto main = std::max_element(maps.begin(), maps.end(),
+                                     [](const MapSummary& a, const MapSummary& b) { return a.frames < b.frames; });
+  return main != maps.end() ? main->id : 0;
+}
+
+core::Trajectory System::FrameTrajectory() const { return FrameTrajectory(MainMap()); }
+
+core::Trajectory System::FrameTrajectory(MapId map) const {
   std::shared_lock lock(map_.mutex());
   core::Trajectory trajectory;
   for (const Tracker::FrameRecord& record : tracker_.records()) {
     if (record.reference == nullptr) continue;
-    // A culled reference keyframe kept its pose relative to its parent: follow the chain to a live one.
-    const KeyFrame* reference = record.reference;
-    core::Pose T_cr = record.T_cr;
-    while (reference->bad()) {
-      T_cr = T_cr * reference->T_cp();
-      reference = reference->parent();
-    }
-    trajectory.push_back({record.timestamp, (T_cr * reference->T_cw()).inverse()});
+    const auto [id, T_wc] = Place(record);
+    if (id == map) trajectory.push_back({record.timestamp, T_wc});
   }
   return trajectory;
 }
 
 core::Trajectory System::KeyFrameTrajectory() const {
+  const MapId main = MainMap();
   std::shared_lock lock(map_.mutex());
   core::Trajectory trajectory;
-  for (const KeyFrame* keyframe : map_.KeyFrames()) trajectory.push_back({keyframe->timestamp(), keyframe->T_wc()});
+  for (const KeyFrame* keyframe : map_.KeyFrames(main)) trajectory.push_back({keyframe->timestamp(), keyframe->T_wc()});
   return trajectory;
 }
 
 std::vector<MapPointSample> System::MapPoints() const {
+  const MapId main = MainMap();
   std::shared_lock lock(map_.mutex());
   std::vector<MapPointSample> samples;
-  for (const MapPoint* point : map_.MapPoints()) {
+  for (const MapPoint* point : map_.MapPoints(main)) {
     samples.push_back({point->position(), point->color(), static_cast<int>(point->observations().size())});
   }
   return samples;
 }
 
 std::size_t System::NumKeyFrames() const {
+  const MapId main = MainMap();
   std::shared_lock lock(map_.mutex());
-  return map_.NumKeyFrames();
+  return map_.NumKeyFrames(main);
 }
 
-std::vector<LoopClosure> System::LoopClosures() const { return loop_closer_.closures(); }
+std::vector<LoopClosure> System::LoopClosures() const {
+  std::vector<LoopClosure> loops = loop_closer_.closures();
+  std::erase_if(loops, [](const LoopClosure& c) { return c.merged_map.has_value(); });
+  return loops;
+}
+
+std::vector<LoopClosure> System::MapMerges() const {
+  std::vector<LoopClosure> merges = loop_closer_.closures();
+  std::erase_if(merges, [](const LoopClosure& c) { return !c.merged_map.has_value(); });
+  return merges;
+}
 
 LoopCloser::Timings System::LoopClosingTimings() const { return loop_closer_.timings(); }
 

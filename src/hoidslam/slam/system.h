@@ -57,6 +57,13 @@ struct ExtractedFeatures {
   cv::Mat descriptors;
 };
 
+// One map of the Atlas (map.h) as the outputs show it: the frames tracked in it (after the merges) and its keyframes.
+struct MapSummary {
+  MapId id = 0;
+  std::size_t frames = 0;
+  std::size_t keyframes = 0;
+};
+
 // A map point as the outputs show it.
 struct MapPointSample {
   Eigen::Vector3d position;
@@ -87,18 +94,26 @@ class System {
   // Lets local mapping and loop closing finish their queues and stops them; the outputs below then show the final
   // map.
   void Finish();
-  // Writes the map to a map file (map_file.h; after Finish, the final map). Throws core::InputError naming the file
-  // when it cannot be written.
+  // Writes the main map to a map file (map_file.h; after Finish, the final map). Throws core::InputError naming the
+  // file when it cannot be written.
   void SaveMap(const std::filesystem::path& path) const;
 
-  // Every tracked frame's pose, placed relative to its reference keyframe as the map finally has it.
+  // The maps frames were tracked in, by id (one, unless tracking was lost long in new ground and the new map was
+  // never merged). The main map is the one with the most tracked frames (of a tie, the first): the trajectory, the
+  // keyframes, the map points and the map file are its.
+  std::vector<MapSummary> Maps() const;
+  MapId MainMap() const;
+  // Every frame tracked in the map (by default the main one), placed relative to its reference keyframe as the map
+  // finally has it.
   core::Trajectory FrameTrajectory() const;
-  // The keyframes' poses, by id.
+  core::Trajectory FrameTrajectory(MapId map) const;
+  // The main map's keyframes' poses, by id.
   core::Trajectory KeyFrameTrajectory() const;
   std::vector<MapPointSample> MapPoints() const;
-  std::size_t NumKeyFrames() const;
-  // The loops closed so far, in order.
+  std::size_t NumKeyFrames() const;  // in the main map
+  // The loops closed so far, in order; and the merges of two maps.
   std::vector<LoopClosure> LoopClosures() const;
+  std::vector<LoopClosure> MapMerges() const;
   LoopCloser::Timings LoopClosingTimings() const;
 
  private:

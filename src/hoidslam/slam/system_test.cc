@@ -261,7 +261,9 @@ TEST(System, AShortLossIsBridgedByTheMotionModelAndSaysWhy) {
 
 TEST(System, ACameraCarriedBackToAPlaceItMappedIsRelocalisedThere) {
   const cv::Mat texture = MakeTexture(3);
-  System system(Options());
+  SystemOptions options = Options();
+  options.tracking.new_map_after = 0.0;  // no new map on the other wall: the camera stays lost until relocalised
+  System system(options);
   ASSERT_NO_FATAL_FAILURE(TrackWholeFrames(system, texture, 20));
   // Two seconds before another wall: lost, too long for the motion model to say where the camera went.
   const cv::Mat elsewhere = MakeTexture(99);
@@ -278,6 +280,39 @@ TEST(System, ACameraCarriedBackToAPlaceItMappedIsRelocalisedThere) {
   ASSERT_EQ(result.state, TrackingState::kOk);
   EXPECT_EQ(result.method, TrackingMethod::kRelocalization);
   EXPECT_LT((result.T_cw->translation() - TrueTranslation(5)).norm(), 0.005);
+}
+
+TEST(System, ACameraCarriedBackFromNewGroundIsRelocalisedInTheFirstMap) {
+  const cv::Mat texture = MakeTexture(3);
+  System system(Options());
+  ASSERT_NO_FATAL_FAILURE(TrackWholeFrames(system, texture, 20));
+  // Two seconds before another wall: lost for a second, then a map of its own is started there.
+  const cv::Mat elsewhere = MakeTexture(99);
+  double timestamp = MakeFrame(texture, 19).timestamp;
+  const auto next = [&](const cv::Mat& wall, int k) {
+    core::RgbdFrame frame = MakeFrame(wall, k);
+    frame.timestamp = timestamp += 1.0 / 30.0;
+    return system.Track(frame, system.Extract(frame.rgb), {});
+  };
+  TrackResult result;
+  for (int k = 0; k < 60; ++k) result = next(elsewhere, k % 20);
+  ASSERT_EQ(result.state, TrackingState::kOk);
+  EXPECT_EQ(result.map, 1U);
+  // Back where frame 5 was: lost in the new map, and a second later found again in the first one.
+  const double back = timestamp;
+  while (timestamp < back + 1.5 && (result = next(texture, 5)).state != TrackingState::kOk) {
+  }
+  ASSERT_EQ(result.state, TrackingState::kOk);
+  EXPECT_EQ(result.method, TrackingMethod::kRelocalization);
+  EXPECT_EQ(result.map, 0U);
+  EXPECT_GT(timestamp - back, 1.0);
+  EXPECT_LT((result.T_cw->translation() - TrueTranslation(5)).norm(), 0.005);
+  system.Finish();
+  // Both maps have frames: the first its 20 and the one found again, the other wall's its own.
+  const std::vector<MapSummary> maps = system.Maps();
+  ASSERT_EQ(maps.size(), 2U);
+  EXPECT_EQ(maps[0].frames, 21U);
+  EXPECT_EQ(system.FrameTrajectory(0).size(), 21U);
 }
 
 TEST(System, ARelocalisationBeyondTheCameraReachAfterAShortLossIsRefused) {
@@ -514,6 +549,119 @@ TEST_F(MapReuse, LocalizationNeedsAMapAndAMapItsCamera) {
               std::string::npos)
         << error.what();
   }
+}
+
+// The Atlas on the wall: the camera maps the first side of the rectangle, the lens is covered for 1.5 s while it
+// moves to the far corner (ground no keyframe saw), and it goes on round the rectangle, back over the first side.
+// Frames under the cover are black, without depth. `covered` holds which frames those are.
+struct LostInNewGround {
+  std::vector<cv::Point> path;
+  std::vector<bool> covered;
+  std::vector<TrackResult> results;
+  std::vector<MapSummary> maps;
+  std::vector<LoopClosure> merges;
+  core::Trajectory main_trajectory;
+  core::Trajectory other_trajectory;  // of the second map, when it stayed apart
+};
+
+LostInNewGround LoseTheCameraInNewGround(bool merge_maps) {
+  const cv::Mat texture = MakeTexture(7, {1340, 980});
+  LostInNewGround run;
+  run.path = {{0, 0}};
+  AddLeg(run.path, {0, 0}, {700, 0}, 14);
+  run.covered.assign(run.path.size(), false);
+  constexpr int kCoveredFrames = 45;
+  for (int k = 0; k < kCoveredFrames; ++k) {
+    run.path.push_back({700, 500});
+    run.covered.push_back(true);
+  }
+  const std::size_t uncovered = run.path.size();
+  run.path.push_back({700, 500});
+  AddLeg(run.path, {700, 500}, {0, 500}, 14);
+  AddLeg(run.path, {0, 500}, {0, 0}, 14);
+  AddLeg(run.path, {0, 0}, {700, 0}, 14);
+  run.covered.resize(run.path.size(), false);
+  EXPECT_EQ(run.covered[uncovered], false);
+
+  SystemOptions options = Options();
+  options.loop_closing.min_keyframes = 4;  // a plane needs few keyframes
+  options.loop_closing.merge_maps = merge_maps;
+  System system(options);
+  for (std::size_t k = 0; k < run.path.size(); ++k) {
+    core::RgbdFrame frame = ViewAt(texture, run.path[k], static_cast<int>(k));
+    if (run.covered[k]) {
+      frame.rgb.setTo(cv::Scalar::all(0));
+      frame.depth.setTo(0.0F);
+    }
+    run.results.push_back(system.Track(frame, system.Extract(frame.rgb), {}));
+  }
+  system.Finish();
+  run.maps = system.Maps();
+  run.merges = system.MapMerges();
+  run.main_trajectory = system.FrameTrajectory();
+  for (const MapSummary& map : run.maps) {
+    if (map.id != system.MainMap()) run.other_trajectory = system.FrameTrajectory(map.id);
+  }
+  return run;
+}
+
+// The first frame after the cover: tracking lost for 1.5 s found nothing of it in the map, and started a map there.
+std::size_t UncoveredFrame(const LostInNewGround& run) {
+  return static_cast<std::size_t>(std::find(run.covered.begin() + 1, run.covered.end(), true) - run.covered.begin()) +
+         45;
+}
+
+TEST(System, ACameraLostInNewGroundStartsAMapAndMergesItWhereItSeesTheFirst) {
+  const LostInNewGround run = LoseTheCameraInNewGround(true);
+  const std::size_t uncovered = UncoveredFrame(run);
+  for (std::size_t k = 0; k < run.path.size(); ++k) {
+    EXPECT_EQ(run.results[k].T_cw.has_value(), !run.covered[k]) << "frame " << k;
+  }
+  EXPECT_EQ(run.results[uncovered].method, TrackingMethod::kInitialization);
+  EXPECT_EQ(run.results[uncovered].map, 1U);
+  EXPECT_EQ(run.results[uncovered - 46].map, 0U);
+
+  // Merged once the camera came back over the first side: one map holds every tracked frame.
+  ASSERT_EQ(run.merges.size(), 1U);
+  const LoopClosure& merge = run.merges.front();
+  EXPECT_EQ(merge.merged_map, std::optional<MapId>(1));
+  EXPECT_EQ(merge.map, 0U);
+  EXPECT_LT(merge.loop_frame_id, uncovered);
+  EXPECT_GT(merge.frame_id, uncovered);
+  const Eigen::Vector3d true_offset = TrueCentre(run.path[merge.frame_id], run.path[0]) -
+                                      TrueCentre(run.path[merge.loop_frame_id], run.path[0]);
+  EXPECT_LT((merge.T_loop_current.translation() - true_offset).norm(), 0.01);
+  EXPECT_LT(core::RotationAngleDegrees(merge.T_loop_current.linear()), 0.5);
+  ASSERT_EQ(run.maps.size(), 1U);
+  EXPECT_EQ(run.maps.front().id, 0U);
+  const std::size_t tracked = static_cast<std::size_t>(std::count(run.covered.begin(), run.covered.end(), false));
+  EXPECT_EQ(run.maps.front().frames, tracked);
+  // Every frame, the second map's too, is where it truly was in the first map's world frame (the second map drifted
+  // a little on its way round before the merge).
+  ASSERT_EQ(run.main_trajectory.size(), tracked);
+  std::size_t i = 0;
+  for (std::size_t k = 0; k < run.path.size(); ++k) {
+    if (run.covered[k]) continue;
+    const double error = (run.main_trajectory[i++].T_wc.translation() - TrueCentre(run.path[k], run.path[0])).norm();
+    EXPECT_LT(error, 0.03) << "frame " << k;
+  }
+}
+
+TEST(System, AMapStartedInNewGroundStaysApartWhenMapsAreNotMerged) {
+  const LostInNewGround run = LoseTheCameraInNewGround(false);
+  const std::size_t uncovered = UncoveredFrame(run);
+  EXPECT_TRUE(run.merges.empty());
+  ASSERT_EQ(run.maps.size(), 2U);
+  // The second map, from the uncovering on, is the longer: the main one.
+  EXPECT_EQ(run.maps[1].id, 1U);
+  EXPECT_EQ(run.maps[1].frames, run.path.size() - uncovered);
+  EXPECT_EQ(run.maps[0].frames, uncovered - 45);
+  ASSERT_EQ(run.main_trajectory.size(), run.path.size() - uncovered);
+  ASSERT_EQ(run.other_trajectory.size(), uncovered - 45);
+  // Its world frame is its first camera's.
+  EXPECT_LT(run.main_trajectory.front().T_wc.translation().norm(), 1e-9);
+  const Eigen::Vector3d walked = TrueCentre(run.path[uncovered + 20], run.path[uncovered]);
+  EXPECT_LT((run.main_trajectory[20].T_wc.translation() - walked).norm(), 0.01);
 }
 
 }  // namespace

@@ -108,6 +108,10 @@ void TrackerOptions::Check() const {
   positive(max_camera_speed, "Tracking.maxCameraSpeed");
   positive(reach_angle_deg, "Tracking.reachAngle");
   positive(max_camera_turn_rate_deg, "Tracking.maxCameraTurnRate");
+  if (!(new_map_after >= 0.0)) {
+    throw core::InputError::ForParameter("Tracking.newMapAfter",
+                                         fmt::format("must be >= 0 seconds (0: never), got {}", new_map_after));
+  }
   const auto in_unit = [](double value, const char* name) {
     if (!(value > 0.0 && value <= 1.0)) {
       throw core::InputError::ForParameter(name, fmt::format("must be in (0, 1], got {}", value));
@@ -137,6 +141,7 @@ TrackResult Tracker::Track(Frame frame) {
   result.keypoints = frame.size();
   TrackingFailure failure = TrackingFailure::kNone;
   bool make_keyframe = false;
+  OpenNewMapWhenLostLong(frame);
   // Tries a first estimate, then confirms it against the local map.
   const auto attempt = [&](TrackingMethod method, TrackingFailure first_estimate) {
     failure = first_estimate;
@@ -205,7 +210,8 @@ TrackResult Tracker::Track(Frame frame) {
     result.moving_points = static_cast<int>(moving_points_.size());
     moving_points_.clear();
   }
-  if (state_ == TrackingState::kNotInitialized) {
+  if (state_ == TrackingState::kNotInitialized || (!ok && new_map_opened_)) {
+    // The first map, or a new one: the frame was not found in any map.
     std::unique_lock lock(map_.mutex());
     ok = Initialize(frame);
     if (ok) {
@@ -213,7 +219,14 @@ TrackResult Tracker::Track(Frame frame) {
       result.keyframe = true;
       result.matched = result.inliers = frame.keypoints->num_with_depth();
       local_mapper_.Insert(last_keyframe_);
+      velocity_.reset();
+      new_map_opened_ = false;
     }
+  } else if (ok && new_map_opened_) {
+    // Found again in a map: tracking goes on there, and the new map, still empty, is forgotten.
+    std::unique_lock lock(map_.mutex());
+    map_.ActivateMap(frame.reference_keyframe->map_id());
+    new_map_opened_ = false;
   } else if (make_keyframe) {
     // Queued under the lock, and not at all while a loop is being corrected (LocalMapper::Pause).
     std::unique_lock lock(map_.mutex());
@@ -233,7 +246,9 @@ TrackResult Tracker::Track(Frame frame) {
       // Local mapping's bundle adjustment may be moving the reference keyframe right now.
       std::shared_lock lock(map_.mutex());
       records_.push_back({frame.timestamp, reference_keyframe_, frame.T_cw * reference_keyframe_->T_wc()});
+      result.map = reference_keyframe_->map_id();
     }
+    lost_since_.reset();
     last_record_ = records_.back();
     // The next frame searches from this one's inliers only.
     for (int i = 0; i < frame.size(); ++i) {
@@ -242,6 +257,7 @@ TrackResult Tracker::Track(Frame frame) {
     last_frame_ = std::move(frame);
   } else {
     if (state_ == TrackingState::kOk) state_ = TrackingState::kLost;
+    if (state_ == TrackingState::kLost && !lost_since_) lost_since_ = frame.timestamp;
     records_.push_back({frame.timestamp, nullptr, core::Pose::Identity()});
     if (state_ == TrackingState::kLost) {
       result.failure = frame.size() < options_.min_inliers_floor ? TrackingFailure::kTooFewKeypoints : failure;
@@ -254,6 +270,17 @@ TrackResult Tracker::Track(Frame frame) {
 void Tracker::StartInLoadedMap(bool localization) {
   state_ = TrackingState::kLost;
   localization_ = localization;
+}
+
+void Tracker::OpenNewMapWhenLostLong(const Frame& frame) {
+  if (state_ != TrackingState::kLost || new_map_opened_ || localization_ || options_.new_map_after <= 0.0 ||
+      !lost_since_ || frame.timestamp - *lost_since_ < options_.new_map_after) {
+    return;
+  }
+  std::unique_lock lock(map_.mutex());
+  const MapId map = map_.StartNewMap();
+  new_map_opened_ = true;
+  spdlog::debug("frame {}: lost for {:.2f} s, map {} opened", frame.id, frame.timestamp - *lost_since_, map);
 }
 
 bool Tracker::Initialize(Frame& frame) {
@@ -448,7 +475,7 @@ void Tracker::FindMovingPoints(const Frame& frame, const TrackResult& result) {
 bool Tracker::NeedNewKeyFrame(const Frame& frame, int inliers) const {
   if (local_mapper_.Paused()) return false;  // a loop is being corrected
   if (reference_keyframe_ == nullptr) return false;  // the first frame found in a loaded map: nothing to compare
-  const std::size_t keyframes = map_.NumKeyFrames();
+  const std::size_t keyframes = map_.NumKeyFrames(map_.active_map());
   const auto max_interval = static_cast<std::uint64_t>(options_.keyframe_max_interval);
   // Right after relocalising, wait for the map to be trusted again.
   if (last_relocalization_frame_id_ && frame.id < *last_relocalization_frame_id_ + max_interval &&
@@ -578,8 +605,10 @@ TrackingFailure Tracker::Relocalize(Frame& frame) {
     for (KeyFrame* neighbour : reference_keyframe_->BestCovisibles(10)) consider(neighbour);
   }
   const bow::ImageWords words = DescribePlace(vocabulary_, keypoints);
+  // Lost long, the frame may be in any map; else in the one it was tracked in.
+  const std::optional<MapId> map = new_map_opened_ ? std::nullopt : std::optional(map_.active_map());
   for (KeyFrame* keyframe : map_.database().RelocalizationCandidates(
-           words.bow, static_cast<std::size_t>(options_.relocalization_candidates))) {
+           words.bow, static_cast<std::size_t>(options_.relocalization_candidates), map)) {
     consider(keyframe);
   }
   if (candidates.empty()) return TrackingFailure::kTooFewMatches;

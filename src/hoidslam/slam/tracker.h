@@ -82,6 +82,11 @@ struct TrackerOptions {
   double max_camera_speed = 1.5;   // metres per second: a hand-held or robot camera
   double reach_angle_deg = 10.0;
   double max_camera_turn_rate_deg = 180.0;  // degrees per second
+  // Lost for this long (seconds), the camera is taken to be in new ground: a new map is opened in the Atlas
+  // (map.h). Each frame is then looked for in every map (relocalisation), and the first one that is not found
+  // there but has enough keypoints with depth starts the new map; loop closing merges it into an earlier map once it
+  // recognises a place of that map. 0: never; the camera stays lost until relocalised in the map.
+  double new_map_after = 1.0;
   // The geometric safety net (mode hoidplus): a map point whose measured depth misfits the tracked pose (off by
   // more than moving_point_depth of the predicted depth) this many times in a row, counted on well-tracked frames
   // where it is matched, is taken to be on something moving and erased from the map. 0: off. It catches what no
@@ -103,6 +108,7 @@ struct TrackResult {
   int moving_points = 0;  // map points the safety net erased on this frame
   TrackingFailure failure = TrackingFailure::kNone;  // when not tracked (after initialisation)
   std::optional<core::Pose> T_cw;  // when tracked
+  MapId map = 0;  // when tracked: the map it was tracked in (map.h); a later merge may move it into another
 };
 
 class Tracker {
@@ -137,6 +143,8 @@ class Tracker {
   // measured motion scaled to the time elapsed (no measured motion: standing still). Returns how many frames'
   // worth of motion that is, 1 to 4 (0 without a measured motion), by which search windows grow.
   double PredictPose(Frame& frame) const;
+  // Lost for TrackerOptions::new_map_after: opens a new map, once.
+  void OpenNewMapWhenLostLong(const Frame& frame);
   // For a frame the usual searches cannot track, or after a short loss: the local map of the last tracked frame
   // (the keyframes that see its points, and their neighbours) searched for where the motion model puts it, within a
   // window grown with the frames lost, matching only close descriptors (kDescriptorDistanceLow), then PnP RANSAC.
@@ -169,6 +177,8 @@ class Tracker {
 
   TrackingState state_ = TrackingState::kNotInitialized;
   bool localization_ = false;
+  std::optional<double> lost_since_;  // the stamp of the first frame lost, while lost
+  bool new_map_opened_ = false;       // lost long: a new map is open, and relocalisation looks in every map
   // The last tracked frame (the last frame while tracking, the one before the loss when lost) and its record.
   std::optional<Frame> last_frame_;
   FrameRecord last_record_;

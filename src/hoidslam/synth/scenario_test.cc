@@ -42,7 +42,7 @@ std::string Valid(const std::string& people = "[]", const std::string& extra = "
 TEST(Scenario, ShipsTheTumLikeAndTheLoopScenariosWithTheirControls) {
   const std::vector<std::string> names = BuiltinScenarioNames();
   for (const std::string base : {"walking_static", "walking_xyz", "walking_halfsphere", "walking_rpy", "sitting_static",
-                                 "carry", "crowd", "loop", "kidnap"}) {
+                                 "carry", "crowd", "loop", "kidnap", "kidnap_unmapped"}) {
     EXPECT_THAT(names, ::testing::Contains(base));
     EXPECT_THAT(names, ::testing::Contains(base + "_static"));
   }
@@ -278,6 +278,23 @@ TEST(Scenario, KidnapMovesTheCoveredCameraOnAndUncoversItWhereItHasBeen) {
   EXPECT_GE(Angle(covered, uncovered), 65.0 * std::numbers::pi / 180.0);
   EXPECT_TRUE(SeenBefore(path, at(kidnap.covered[0].from), uncovered));
   EXPECT_GT(path.size(), at(kidnap.covered[0].end()) + 300);  // 10 s and more to relocalise and go on
+}
+
+TEST(Scenario, KidnapUnmappedUncoversTheCameraFacingWhatItHasNotSeenAndBringsItBack) {
+  const Scenario kidnap = LoadScenario("kidnap_unmapped");
+  const std::vector<CameraFrame> path = ShippedPath("kidnap_unmapped");
+  ASSERT_EQ(kidnap.covered.size(), 1U);
+  const auto at = [&](double time) {
+    return static_cast<std::size_t>(std::lround(time * kidnap.camera.procedural.fps));
+  };
+  const std::size_t covered = at(kidnap.covered[0].from), uncovered = at(kidnap.covered[0].end());
+  // Every view before the cover looked further away than the image is wide (62.7 degrees) from the uncovered one.
+  for (std::size_t i = 0; i < covered; ++i) {
+    EXPECT_GE(Angle(path[i], path[uncovered]), 65.0 * std::numbers::pi / 180.0) << "frame " << i;
+  }
+  // Later the camera looks again from where it started.
+  EXPECT_TRUE(std::any_of(path.begin() + static_cast<std::ptrdiff_t>(uncovered), path.end(),
+                          [&](const CameraFrame& frame) { return SeenBefore(path, 1, frame); }));
 }
 
 TEST(Scenario, RevisitPassesAreTwoPathsOverTheSamePlacesAtOtherTimes) {

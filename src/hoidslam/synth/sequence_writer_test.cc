@@ -510,7 +510,8 @@ TEST(SequenceWriter, ACoveredLensGivesDarkFramesWithoutDepthWhileTheGroundTruthG
 
 TEST(SequenceWriter, ShippedLoopKidnapAndRevisitScenariosRenderTheOfficeInTheirFirstFrames) {
   testing::TempDir temp;
-  for (const std::string name : {"loop", "loop_static", "kidnap", "kidnap_static", "revisit_a", "revisit_b"}) {
+  for (const std::string name : {"loop", "loop_static", "kidnap", "kidnap_static", "kidnap_unmapped",
+                                 "kidnap_unmapped_static", "revisit_a", "revisit_b"}) {
     SCOPED_TRACE(name);
     Scenario scenario = LoadScenario(name);
     scenario.max_frames = 2;

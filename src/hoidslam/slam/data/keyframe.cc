@@ -4,9 +4,9 @@
 
 namespace hoidslam::slam {
 
-KeyFrame::KeyFrame(KeyFrameId id, std::uint64_t frame_id, double timestamp,
+KeyFrame::KeyFrame(KeyFrameId id, MapId map_id, std::uint64_t frame_id, double timestamp,
                    std::shared_ptr<const KeypointSet> keypoints, const core::Pose& T_cw)
-    : id_(id), frame_id_(frame_id), timestamp_(timestamp), keypoints_(std::move(keypoints)),
+    : id_(id), map_id_(map_id), frame_id_(frame_id), timestamp_(timestamp), keypoints_(std::move(keypoints)),
       map_points_(static_cast<std::size_t>(keypoints_->size()), nullptr) {
   SetPose(T_cw);
 }

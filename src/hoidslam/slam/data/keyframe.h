@@ -17,12 +17,14 @@ namespace hoidslam::slam {
 
 class KeyFrame {
  public:
-  KeyFrame(KeyFrameId id, std::uint64_t frame_id, double timestamp, std::shared_ptr<const KeypointSet> keypoints,
-           const core::Pose& T_cw);
+  KeyFrame(KeyFrameId id, MapId map_id, std::uint64_t frame_id, double timestamp,
+           std::shared_ptr<const KeypointSet> keypoints, const core::Pose& T_cw);
   KeyFrame(const KeyFrame&) = delete;
   KeyFrame& operator=(const KeyFrame&) = delete;
 
   KeyFrameId id() const { return id_; }
+  // The map it belongs to: the one active when it was made, or the one that map was merged into.
+  MapId map_id() const { return map_id_; }
   std::uint64_t frame_id() const { return frame_id_; }
   double timestamp() const { return timestamp_; }
   const KeypointSet& keypoints() const { return *keypoints_; }
@@ -69,6 +71,7 @@ class KeyFrame {
   void EraseChild(const KeyFrame* child);
 
   KeyFrameId id_;
+  MapId map_id_;
   std::uint64_t frame_id_;
   double timestamp_;
   std::shared_ptr<const KeypointSet> keypoints_;

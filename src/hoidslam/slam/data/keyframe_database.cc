@@ -30,24 +30,35 @@ void KeyFrameDatabase::Erase(const KeyFrame* keyframe) {
 }
 
 std::vector<KeyFrame*> KeyFrameDatabase::RelocalizationCandidates(const bow::BowVector& words,
-                                                                  std::size_t max_candidates) const {
-  return Candidates(words, nullptr, 0.0, max_candidates);
+                                                                  std::size_t max_candidates,
+                                                                  std::optional<MapId> map) const {
+  return Candidates(
+      words, [map](const KeyFrame& k) { return !map || k.map_id() == *map; }, 0.0, max_candidates);
 }
 
 std::vector<KeyFrame*> KeyFrameDatabase::LoopCandidates(const KeyFrame& keyframe, double min_score) const {
   std::unordered_set<const KeyFrame*> connected = {&keyframe};
   for (const auto& [neighbour, weight] : keyframe.covisibles()) connected.insert(neighbour);
-  return Candidates(keyframe.words().bow, &connected, min_score, std::numeric_limits<std::size_t>::max());
+  return Candidates(
+      keyframe.words().bow,
+      [&](const KeyFrame& k) { return k.map_id() == keyframe.map_id() && !connected.contains(&k); }, min_score,
+      std::numeric_limits<std::size_t>::max());
+}
+
+std::vector<KeyFrame*> KeyFrameDatabase::MergeCandidates(const KeyFrame& keyframe, double min_score) const {
+  return Candidates(
+      keyframe.words().bow, [&](const KeyFrame& k) { return k.map_id() != keyframe.map_id(); }, min_score,
+      std::numeric_limits<std::size_t>::max());
 }
 
 std::vector<KeyFrame*> KeyFrameDatabase::Candidates(const bow::BowVector& words,
-                                                    const std::unordered_set<const KeyFrame*>* excluded,
+                                                    const std::function<bool(const KeyFrame&)>& take,
                                                     double min_score, std::size_t max_candidates) const {
   std::unordered_map<KeyFrame*, int> shared;
   for (const bow::WordWeight& w : words) {
     if (w.word >= keyframes_by_word_.size()) continue;
     for (KeyFrame* keyframe : keyframes_by_word_[w.word]) {
-      if (!keyframe->bad() && (excluded == nullptr || !excluded->contains(keyframe))) ++shared[keyframe];
+      if (!keyframe->bad() && take(*keyframe)) ++shared[keyframe];
     }
   }
   int most_shared = 0;

@@ -6,12 +6,14 @@
 // Owned by the Map and locked with it (map.h): queried under its lock shared, changed under it exclusively.
 
 #include <cstddef>
-#include <unordered_set>
+#include <functional>
+#include <optional>
 #include <vector>
 
 #include "hoidslam/bow/bow_vector.h"
 #include "hoidslam/bow/vocabulary.h"
 #include "hoidslam/slam/data/keypoints.h"
+#include "hoidslam/slam/data/map_point.h"
 
 namespace hoidslam::slam {
 
@@ -37,17 +39,20 @@ class KeyFrameDatabase {
   // those sharing at least 80 % as many words as the best are scored (bow::Score); each is credited with the
   // scores of its 10 best covisible keyframes among them, since a place is seen by several keyframes, and the best
   // of each group whose credit reaches 75 % of the best credit is returned, best credit first (ties by id), at most
-  // `max_candidates` of them.
-  std::vector<KeyFrame*> RelocalizationCandidates(const bow::BowVector& words, std::size_t max_candidates) const;
+  // `max_candidates` of them. Only keyframes of `map` when given, else of every map.
+  std::vector<KeyFrame*> RelocalizationCandidates(const bow::BowVector& words, std::size_t max_candidates,
+                                                  std::optional<MapId> map = std::nullopt) const;
   // ORB-SLAM's loop candidates for a keyframe: the same, but from the keyframes not connected to it in the
   // covisibility graph (a loop joins what tracking did not), and only those scoring at least `min_score` — the
   // score of its least similar covisible keyframe, so a candidate must look at least as much like it as its own
-  // neighbours do. All groups within 75 % of the best credit are returned.
+  // neighbours do. All groups within 75 % of the best credit are returned. Only keyframes of its own map.
   std::vector<KeyFrame*> LoopCandidates(const KeyFrame& keyframe, double min_score) const;
+  // The same from the keyframes of the other maps: places where two maps can be merged.
+  std::vector<KeyFrame*> MergeCandidates(const KeyFrame& keyframe, double min_score) const;
 
  private:
-  // Both of the above: keyframes in `excluded` (when given) and those scoring below `min_score` take no part.
-  std::vector<KeyFrame*> Candidates(const bow::BowVector& words, const std::unordered_set<const KeyFrame*>* excluded,
+  // All of the above: only keyframes `take` accepts, and scoring at least `min_score`, take part.
+  std::vector<KeyFrame*> Candidates(const bow::BowVector& words, const std::function<bool(const KeyFrame&)>& take,
                                     double min_score, std::size_t max_candidates) const;
 
   std::vector<std::vector<KeyFrame*>> keyframes_by_word_;

@@ -15,6 +15,7 @@ namespace {
 
 using ::testing::ElementsAre;
 using ::testing::IsEmpty;
+using ::testing::UnorderedElementsAre;
 
 constexpr int kKeypoints = 40;
 
@@ -87,6 +88,22 @@ TEST_F(KeyFrameDatabaseTest, ACulledKeyframeIsNoLongerFound) {
   map_.EraseKeyFrame(culled);
   EXPECT_THAT(Candidates({1, 2, 3, 4}), IsEmpty());
   EXPECT_THAT(Candidates({40, 41, 42}), ElementsAre(first));
+}
+
+TEST_F(KeyFrameDatabaseTest, EachMapIsSearchedOnItsOwnOrAllTogether) {
+  KeyFrame* first_map = Add({1, 2, 3, 4});
+  Add({40, 41});
+  map_.StartNewMap();
+  KeyFrame* second_map = Add({1, 2, 3, 4, 5});
+  Connect(second_map, Add({1, 2, 6, 7}));
+  // Relocalisation in one map, or in all of them.
+  EXPECT_THAT(map_.database().RelocalizationCandidates(Words({1, 2, 3, 4}).bow, 10, 0), ElementsAre(first_map));
+  EXPECT_THAT(map_.database().RelocalizationCandidates(Words({1, 2, 3, 4}).bow, 10, 1), ElementsAre(second_map));
+  EXPECT_THAT(Candidates({1, 2, 3, 4}), UnorderedElementsAre(first_map, second_map));
+  KeyFrame* probe = Add({1, 2, 3, 4, 8});
+  // A loop stays in the keyframe's map; a merge looks only in the others.
+  EXPECT_THAT(map_.database().LoopCandidates(*probe, 0.0), ElementsAre(second_map));
+  EXPECT_THAT(map_.database().MergeCandidates(*probe, 0.0), ElementsAre(first_map));
 }
 
 }  // namespace

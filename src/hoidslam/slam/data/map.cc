@@ -14,9 +14,11 @@ constexpr int kMinCovisibilityWeight = 15;
 KeyFrame* Map::CreateKeyFrame(std::uint64_t frame_id, double timestamp, std::shared_ptr<const KeypointSet> keypoints,
                               const core::Pose& T_cw) {
   keyframes_.push_back(
-      std::make_unique<KeyFrame>(keyframes_.size(), frame_id, timestamp, std::move(keypoints), T_cw));
+      std::make_unique<KeyFrame>(keyframes_.size(), active_map_, frame_id, timestamp, std::move(keypoints), T_cw));
   ++num_good_keyframes_;
-  return keyframes_.back().get();
+  KeyFrame* keyframe = keyframes_.back().get();
+  if (origins_[active_map_] == nullptr) origins_[active_map_] = keyframe;
+  return keyframe;
 }
 
 MapPoint* Map::CreateMapPoint(const Eigen::Vector3d& position_w, KeyFrame* keyframe, int index,
@@ -108,7 +110,7 @@ void Map::UpdateConnections(KeyFrame* keyframe) {
   // The parent is the strongest older neighbour. Every keyframe's descendants are younger than it (children are
   // attached to older parents, and a culled keyframe's children move within its own subtree), so an older parent
   // can never be a descendant: the tree stays a tree even for a keyframe that finds its first neighbour late.
-  if (keyframe->parent_ == nullptr && keyframe != first_keyframe()) {
+  if (keyframe->parent_ == nullptr && !IsOrigin(keyframe)) {
     for (const auto& [other, weight] : keyframe->covisibles_) {
       if (other->id() < keyframe->id()) {
         keyframe->parent_ = other;
@@ -120,9 +122,9 @@ void Map::UpdateConnections(KeyFrame* keyframe) {
 }
 
 void Map::EraseKeyFrame(KeyFrame* keyframe) {
-  // The first keyframe anchors the world frame; one never connected has no parent to hand its children to; the
-  // ends of a closed loop hold the essential graph together.
-  if (keyframe->bad_ || keyframe == first_keyframe() || keyframe->parent_ == nullptr || !keyframe->loop_edges_.empty()) {
+  // A map's first keyframe anchors its world frame; one never connected has no parent to hand its children to; the
+  // ends of a closed loop (or a merge) hold the essential graph together.
+  if (keyframe->bad_ || IsOrigin(keyframe) || keyframe->parent_ == nullptr || !keyframe->loop_edges_.empty()) {
     return;
   }
   for (const auto& [other, weight] : keyframe->covisibles_) other->EraseCovisible(keyframe);
@@ -188,6 +190,64 @@ std::vector<MapPoint*> Map::MapPoints() const {
     if (!point->bad_) good.push_back(point.get());
   }
   return good;
+}
+
+std::vector<KeyFrame*> Map::KeyFrames(MapId map) const {
+  std::vector<KeyFrame*> good;
+  for (const auto& keyframe : keyframes_) {
+    if (!keyframe->bad_ && keyframe->map_id_ == map) good.push_back(keyframe.get());
+  }
+  return good;
+}
+
+std::vector<MapPoint*> Map::MapPoints(MapId map) const {
+  // A point is seen only by keyframes of its map; a good point is seen by at least one.
+  std::vector<MapPoint*> good;
+  for (const auto& point : points_) {
+    if (!point->bad_ && !point->observations_.empty() && point->observations_.front().keyframe->map_id_ == map) {
+      good.push_back(point.get());
+    }
+  }
+  return good;
+}
+
+std::size_t Map::NumKeyFrames(MapId map) const {
+  return static_cast<std::size_t>(std::count_if(keyframes_.begin(), keyframes_.end(), [map](const auto& keyframe) {
+    return !keyframe->bad_ && keyframe->map_id_ == map;
+  }));
+}
+
+std::vector<MapId> Map::Maps() const {
+  std::vector<MapId> maps;
+  for (MapId id = 0; id < origins_.size(); ++id) {
+    if (origins_[id] != nullptr) maps.push_back(id);
+  }
+  return maps;
+}
+
+bool Map::IsOrigin(const KeyFrame* keyframe) const { return origins_[keyframe->map_id_] == keyframe; }
+
+MapId Map::StartNewMap() {
+  active_map_ = static_cast<MapId>(origins_.size());
+  origins_.push_back(nullptr);
+  return active_map_;
+}
+
+void Map::ActivateMap(MapId id) { active_map_ = id; }
+
+void Map::MergeMaps(MapId from, MapId into, const core::Pose& T_into_from) {
+  const core::Pose T_from_into = T_into_from.inverse();
+  const std::vector<MapPoint*> moved = MapPoints(from);
+  for (MapPoint* point : moved) point->SetPosition(T_into_from * point->position());
+  // Culled keyframes too: they keep their pose relative to their parent, and their map is their parent's.
+  for (const auto& keyframe : keyframes_) {
+    if (keyframe->map_id_ != from) continue;
+    keyframe->SetPose(keyframe->T_cw() * T_from_into);
+    keyframe->map_id_ = into;
+  }
+  for (MapPoint* point : moved) UpdatePoint(point);  // its viewing directions turned
+  origins_[from] = nullptr;
+  if (active_map_ == from) active_map_ = into;
 }
 
 void Map::SetParent(KeyFrame* keyframe, KeyFrame* parent) {

@@ -1,6 +1,11 @@
 #pragma once
 // The map: keyframes and map points, and every operation that changes the graph between them.
 //
+// It is an Atlas (ORB-SLAM3): several maps, one active. Each keyframe belongs to one map (KeyFrame::map_id), and
+// maps share no point and no covisibility edge, so each has a world frame of its own. Tracking lost for long in new
+// ground starts a new map; loop closing merges two maps when one recognises a place of the other. New keyframes
+// join the active map.
+//
 // Ownership: the Map owns all keyframes and map points (unique_ptr arenas) and frees none before it is
 // destroyed. Culling and fusion mark entities bad instead of freeing them, so the plain pointers that frames,
 // keyframes and the two threads hold are never dangling. Ids come from counters owned by the Map, so a run's
@@ -65,6 +70,13 @@ class Map {
   void AddLoopEdge(KeyFrame* a, KeyFrame* b);
   // Gives the keyframe its bag of words and enters it into the place-recognition database.
   void IndexKeyFrame(KeyFrame* keyframe, bow::ImageWords words);
+  // Opens a new, empty map and makes it the active one; returns its id.
+  MapId StartNewMap();
+  // Makes map `id` (one with keyframes) the active one. An empty active map is forgotten.
+  void ActivateMap(MapId id);
+  // Moves map `from` into map `into`: its keyframes and points are carried by T_into_from (from's world into
+  // into's), and its keyframes belong to `into` from then on. `into` becomes active if `from` was.
+  void MergeMaps(MapId from, MapId into, const core::Pose& T_into_from);
 
   // --- Shared lock held ---
   const KeyFrameDatabase& database() const { return database_; }
@@ -72,13 +84,24 @@ class Map {
   std::vector<KeyFrame*> KeyFrames() const;
   std::vector<MapPoint*> MapPoints() const;
   std::size_t NumKeyFrames() const { return num_good_keyframes_; }
-  KeyFrame* first_keyframe() const { return keyframes_.empty() ? nullptr : keyframes_.front().get(); }
+  // The same for one map.
+  std::vector<KeyFrame*> KeyFrames(MapId map) const;
+  std::vector<MapPoint*> MapPoints(MapId map) const;
+  std::size_t NumKeyFrames(MapId map) const;
+  MapId active_map() const { return active_map_; }
+  // The maps that have keyframes, by id.
+  std::vector<MapId> Maps() const;
+  // Whether the keyframe is the first of its map: it anchors that map's world frame, never moves in an
+  // optimisation and is never culled. (A map merged into another keeps the other's.)
+  bool IsOrigin(const KeyFrame* keyframe) const;
 
  private:
   mutable std::shared_mutex mutex_;
   std::deque<std::unique_ptr<KeyFrame>> keyframes_;  // every keyframe ever created, by id
   std::deque<std::unique_ptr<MapPoint>> points_;     // every point ever created, by id
   std::size_t num_good_keyframes_ = 0;
+  MapId active_map_ = 0;
+  std::vector<KeyFrame*> origins_ = {nullptr};  // per map id: its first keyframe (nullptr: none, or merged away)
   KeyFrameDatabase database_;
 };
 

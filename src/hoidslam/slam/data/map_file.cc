@@ -268,11 +268,11 @@ MapFileCamera MapFileCamera::Of(const Sensor& sensor) {
           scale.size() > 1 ? scale[1] : 1.0F};
 }
 
-MapFileContent ContentOf(const Map& map, const Sensor& sensor, const bow::Vocabulary& vocabulary) {
+MapFileContent ContentOf(const Map& map, MapId map_id, const Sensor& sensor, const bow::Vocabulary& vocabulary) {
   MapFileContent content;
   content.camera = MapFileCamera::Of(sensor);
   content.vocabulary = vocabulary.identity();
-  const std::vector<KeyFrame*> keyframes = map.KeyFrames();
+  const std::vector<KeyFrame*> keyframes = map.KeyFrames(map_id);
   std::unordered_map<const KeyFrame*, std::uint32_t> index_of;
   for (const KeyFrame* keyframe : keyframes) index_of.emplace(keyframe, static_cast<std::uint32_t>(index_of.size()));
   for (const KeyFrame* keyframe : keyframes) {
@@ -293,7 +293,7 @@ MapFileContent ContentOf(const Map& map, const Sensor& sensor, const bow::Vocabu
     }
   }
   std::sort(content.loop_edges.begin(), content.loop_edges.end());
-  for (const MapPoint* point : map.MapPoints()) {
+  for (const MapPoint* point : map.MapPoints(map_id)) {
     MapFilePoint& saved = content.points.emplace_back();
     saved.position = point->position();
     saved.color = point->color();
@@ -441,9 +441,9 @@ void RebuildMap(const MapFileContent& content, const std::shared_ptr<const Senso
   }
 }
 
-void SaveMap(const Map& map, const Sensor& sensor, const bow::Vocabulary& vocabulary,
+void SaveMap(const Map& map, MapId map_id, const Sensor& sensor, const bow::Vocabulary& vocabulary,
              const std::filesystem::path& path) {
-  const std::vector<std::uint8_t> bytes = EncodeMap(ContentOf(map, sensor, vocabulary));
+  const std::vector<std::uint8_t> bytes = EncodeMap(ContentOf(map, map_id, sensor, vocabulary));
   io::AtomicFile file(path);
   file.stream().write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
   file.Commit();

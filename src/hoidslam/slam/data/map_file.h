@@ -88,7 +88,7 @@ struct MapFileContent {
 };
 
 // The content of a map (its good keyframes and points; shared lock held).
-MapFileContent ContentOf(const Map& map, const Sensor& sensor, const bow::Vocabulary& vocabulary);
+MapFileContent ContentOf(const Map& map, MapId map_id, const Sensor& sensor, const bow::Vocabulary& vocabulary);
 
 // The file's bytes.
 std::vector<std::uint8_t> EncodeMap(const MapFileContent& content);
@@ -106,9 +106,9 @@ MapFileContent DecodeMap(std::span<const std::uint8_t> bytes, const std::string&
 void RebuildMap(const MapFileContent& content, const std::shared_ptr<const Sensor>& sensor,
                 const bow::Vocabulary& vocabulary, Map& map);
 
-// Writes the map's file atomically (a temporary name, then a rename); throws core::InputError naming the file when
-// it cannot.
-void SaveMap(const Map& map, const Sensor& sensor, const bow::Vocabulary& vocabulary,
+// Writes map `map_id` of the Atlas to a file, atomically (a temporary name, then a rename); throws core::InputError
+// naming the file when it cannot.
+void SaveMap(const Map& map, MapId map_id, const Sensor& sensor, const bow::Vocabulary& vocabulary,
              const std::filesystem::path& path);
 
 // Reads a map file into an empty map (exclusive lock held). Throws core::InputError naming the file for a file that

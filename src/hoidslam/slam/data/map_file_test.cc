@@ -122,7 +122,7 @@ class MapFileTest : public ::testing::Test {
   void SetUp() override {
     BuildMap(map_, sensor_, vocabulary_);
     std::shared_lock lock(map_.mutex());
-    SaveMap(map_, *sensor_, vocabulary_, path_);
+    SaveMap(map_, 0, *sensor_, vocabulary_, path_);
   }
 
   // The error loading `path_` with this sensor and vocabulary gives (none: "").
@@ -211,7 +211,7 @@ TEST_F(MapFileTest, ALoadedMapSavesToTheSameBytes) {
   Map loaded;
   std::unique_lock lock(loaded.mutex());
   LoadMap(path_, sensor_, vocabulary_, loaded);
-  EXPECT_EQ(EncodeMap(ContentOf(loaded, *sensor_, vocabulary_)), ReadBytes(path_));
+  EXPECT_EQ(EncodeMap(ContentOf(loaded, 0, *sensor_, vocabulary_)), ReadBytes(path_));
 }
 
 TEST_F(MapFileTest, AMissingFileIsAnErrorNamingIt) {

@@ -21,6 +21,8 @@ namespace hoidslam::slam {
 class KeyFrame;
 using MapPointId = std::uint64_t;
 using KeyFrameId = std::uint64_t;
+// Which of the Atlas's maps a keyframe belongs to (Map: several maps, one active).
+using MapId = std::uint32_t;
 
 class MapPoint {
  public:

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <numbers>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -95,7 +96,7 @@ TEST_F(MapTest, ObservationsCountDepthTwiceAndStaySortedByKeyFrame) {
   KeyFrame* kf2 = AddKeyFrame(AtCentre({0.2, 0, 0}), Spec(10));
   EXPECT_EQ(kf0->id(), 0U);
   EXPECT_EQ(kf2->id(), 2U);
-  EXPECT_EQ(map_.first_keyframe(), kf0);
+  EXPECT_TRUE(map_.IsOrigin(kf0));
 
   MapPoint* p = map_.CreateMapPoint({0, 0, 5}, kf1, 3);  // with depth
   EXPECT_EQ(p->num_observations(), 2);
@@ -441,6 +442,62 @@ TEST_F(MapTest, PredictLevelFollowsTheScalePyramid) {
   EXPECT_EQ(p->PredictLevel(0.0, pyramid), 0);
   const features::ScalePyramid single = features::ScalePyramid::Make(1, 1.2);
   EXPECT_EQ(p->PredictLevel(0.5, single), 0);
+}
+
+TEST_F(MapTest, AMapStartedAfterwardsHasItsOwnKeyFramesPointsAndOrigin) {
+  KeyFrame* a0 = AddKeyFrame(AtCentre({0, 0, 0}), Spec(10, {0, 1, 2}));
+  KeyFrame* a1 = AddKeyFrame(AtCentre({0.1, 0, 0}), Spec(10, {0, 1, 2}));
+  SharePoints(a0, a1, 0, 3);
+  EXPECT_EQ(map_.active_map(), 0U);
+  EXPECT_EQ(map_.StartNewMap(), 1U);
+  EXPECT_EQ(map_.active_map(), 1U);
+  EXPECT_EQ(map_.Maps(), std::vector<MapId>{0});  // the new map has no keyframe yet
+  KeyFrame* b0 = AddKeyFrame(AtCentre({5, 0, 0}), Spec(10, {0, 1}));
+  KeyFrame* b1 = AddKeyFrame(AtCentre({5.1, 0, 0}), Spec(10, {0, 1}));
+  SharePoints(b0, b1, 0, 2);
+  EXPECT_EQ(b0->map_id(), 1U);
+  EXPECT_EQ(map_.Maps(), (std::vector<MapId>{0, 1}));
+  EXPECT_EQ(map_.KeyFrames(0), (std::vector<KeyFrame*>{a0, a1}));
+  EXPECT_EQ(map_.KeyFrames(1), (std::vector<KeyFrame*>{b0, b1}));
+  EXPECT_EQ(map_.MapPoints(0).size(), 3U);
+  EXPECT_EQ(map_.MapPoints(1).size(), 2U);
+  EXPECT_EQ(map_.NumKeyFrames(1), 2U);
+  // Each map's first keyframe anchors it and is never culled.
+  EXPECT_TRUE(map_.IsOrigin(a0));
+  EXPECT_TRUE(map_.IsOrigin(b0));
+  EXPECT_FALSE(map_.IsOrigin(b1));
+  map_.UpdateConnections(b0);
+  map_.UpdateConnections(b1);
+  EXPECT_EQ(b0->parent(), nullptr);
+  map_.EraseKeyFrame(b0);
+  EXPECT_FALSE(b0->bad());
+  // Back in the first map, a keyframe joins it.
+  map_.ActivateMap(0);
+  EXPECT_EQ(AddKeyFrame(AtCentre({0.2, 0, 0}))->map_id(), 0U);
+}
+
+TEST_F(MapTest, MergingCarriesAMapIntoTheOthersWorldFrame) {
+  KeyFrame* a0 = AddKeyFrame(AtCentre({0, 0, 0}), Spec(10, {0}));
+  map_.StartNewMap();
+  // The second map's world frame is the first's turned 90° about y and moved 1 m along x.
+  const core::Pose T_a_b =
+      testing::PoseFromAxisAngle(Eigen::Vector3d(0, std::numbers::pi / 2, 0), Eigen::Vector3d(1, 0, 0));
+  KeyFrame* b0 = AddKeyFrame(AtCentre({0, 0, 0}), Spec(10, {0, 1}));
+  KeyFrame* b1 = AddKeyFrame(AtCentre({0, 0, 0.5}), Spec(10, {0, 1}));
+  MapPoint* p = SharedPoint({b0, b1}, 0, Eigen::Vector3d(0.2, 0.1, 2.0));
+  const Eigen::Vector3d b1_centre = (T_a_b * b1->T_wc()).translation();
+  map_.MergeMaps(1, 0, T_a_b);
+  EXPECT_EQ(map_.Maps(), std::vector<MapId>{0});
+  EXPECT_EQ(map_.active_map(), 0U);
+  EXPECT_EQ(b0->map_id(), 0U);
+  EXPECT_EQ(b1->map_id(), 0U);
+  EXPECT_TRUE(map_.IsOrigin(a0));
+  EXPECT_FALSE(map_.IsOrigin(b0));
+  EXPECT_LT((b1->center() - b1_centre).norm(), 1e-12);
+  EXPECT_LT((p->position() - T_a_b * Eigen::Vector3d(0.2, 0.1, 2.0)).norm(), 1e-12);
+  EXPECT_EQ(map_.MapPoints(0).size(), 1U);  // the moved one
+  // The point is still where both keyframes see it: in their cameras it has not moved.
+  EXPECT_LT(((b1->T_cw() * p->position()) - Eigen::Vector3d(0.2, 0.1, 1.5)).norm(), 1e-12);
 }
 
 }  // namespace
