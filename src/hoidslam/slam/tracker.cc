@@ -225,7 +225,7 @@ TrackResult Tracker::Track(Frame frame) {
   } else if (ok && new_map_opened_) {
     // Found again in a map: tracking goes on there, and the new map, still empty, is forgotten.
     std::unique_lock lock(map_.mutex());
-    map_.ActivateMap(frame.reference_keyframe->map_id());
+    map_.ActivateMap((frame.reference_keyframe != nullptr ? frame.reference_keyframe : reference_keyframe_)->map_id());
     new_map_opened_ = false;
   } else if (make_keyframe) {
     // Queued under the lock, and not at all while a loop is being corrected (LocalMapper::Pause).
@@ -652,7 +652,9 @@ TrackingFailure Tracker::Relocalize(Frame& frame) {
     spdlog::debug("frame {}: relocalisation candidate keyframe {}: {} PnP inliers, {} after optimisation", frame.id,
                   candidate->id(), consistent, good);
     if (good < options_.min_inliers_after_relocalization) continue;
-    if (!WithinReach(frame)) {
+    // (The reach is measured in the last frame's map: a pose in another map's world frame cannot be compared.)
+    const bool same_map = reference_keyframe_ == nullptr || candidate->map_id() == reference_keyframe_->map_id();
+    if (same_map && !WithinReach(frame)) {
       spdlog::debug("frame {}: relocalisation candidate keyframe {}: out of the camera's reach", frame.id,
                     candidate->id());
       continue;
