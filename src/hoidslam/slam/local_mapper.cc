@@ -11,7 +11,6 @@
 #include <fmt/format.h>
 
 #include "hoidslam/core/error.h"
-#include "hoidslam/features/orb_extractor.h"
 #include "hoidslam/slam/match/fusion.h"
 #include "hoidslam/slam/match/matcher.h"
 
@@ -241,17 +240,7 @@ int FindPartner(const KeyFrame& keyframe, int i, const KeyFrame& neighbour, cons
   const KeypointSet& other = neighbour.keypoints();
   const Sensor& sensor = keypoints.sensor();
   const int level = keypoints.level(i);
-  int best = -1, best_distance = kDescriptorDistanceLow + 1, second_distance = 256;
-  const auto consider = [&](int j) {
-    const int d = features::DescriptorDistance(keypoints.descriptor(i), other.descriptor(j));
-    if (d < best_distance) {
-      second_distance = best_distance;
-      best_distance = d;
-      best = j;
-    } else if (d < second_distance) {
-      second_distance = d;
-    }
-  };
+  NearestTwo nearest(keypoints.descriptor(i), kDescriptorDistanceLow);
   if (keypoints.has_depth(i)) {
     const Eigen::Vector3d p_c = neighbour.T_cw() * (keyframe.T_wc() * keypoints.Unproject(i));
     if (p_c.z() <= 0.0) return -1;
@@ -259,9 +248,9 @@ int FindPartner(const KeyFrame& keyframe, int i, const KeyFrame& neighbour, cons
     if (!sensor.InImage(uv.x(), uv.y())) return -1;
     const double radius = 5.0 * sensor.pyramid.scale[static_cast<std::size_t>(level)];
     for (const int j : other.FeaturesInArea(uv.x(), uv.y(), radius, std::max(0, level - 1), level + 1)) {
-      if (neighbour.map_point(j) == nullptr) consider(j);
+      if (neighbour.map_point(j) == nullptr) nearest.Offer(j, other.descriptor(j));
     }
-    return best;
+    return nearest.best();
   }
   const Eigen::Vector3d line = F21 * keypoints.undistorted(i).homogeneous();
   const double line_norm2 = line.head<2>().squaredNorm();
@@ -272,11 +261,11 @@ int FindPartner(const KeyFrame& keyframe, int i, const KeyFrame& neighbour, cons
     if ((uv2 - epipole).squaredNorm() < 100.0 * level_scale) continue;
     const double distance = line.dot(uv2.homogeneous());
     if (distance * distance / line_norm2 < 3.84 * sensor.pyramid.sigma2[static_cast<std::size_t>(other.level(j))]) {
-      consider(j);
+      nearest.Offer(j, other.descriptor(j));
     }
   }
   // A line crosses many keypoints: a match must stand out from the next best along it.
-  return best_distance < 0.8 * second_distance ? best : -1;
+  return nearest.best_distance() < 0.8 * nearest.second_distance() ? nearest.best() : -1;
 }
 
 }  // namespace

@@ -250,19 +250,11 @@ int SearchByBoW(const KeyFrame& keyframe, const Frame& frame, const bow::Feature
     for (const int i : a->keypoints) {
       MapPoint* p = keyframe.map_point(i);
       if (p == nullptr || p->bad()) continue;
-      int best = -1, best_distance = 256, second_distance = 256;
-      for (const int j : b->keypoints) {
-        const int d = features::DescriptorDistance(kf.descriptor(i), fr.descriptor(j));
-        if (d < best_distance) {
-          second_distance = best_distance;
-          best_distance = d;
-          best = j;
-        } else if (d < second_distance) {
-          second_distance = d;
-        }
-      }
+      NearestTwo nearest(kf.descriptor(i));
+      for (const int j : b->keypoints) nearest.Offer(j, fr.descriptor(j));
+      const int best = nearest.best(), best_distance = nearest.best_distance();
       if (best < 0 || best_distance > kDescriptorDistanceLow ||
-          static_cast<float>(best_distance) > ratio * static_cast<float>(second_distance)) {
+          static_cast<float>(best_distance) > ratio * static_cast<float>(nearest.second_distance())) {
         continue;
       }
       const auto j = static_cast<std::size_t>(best);

@@ -3,12 +3,14 @@
 // grows with the pyramid level, the nearest descriptor) and by descriptor alone (when no pose prediction can be
 // trusted). Every function reads the map and expects Map::mutex() held by the caller, shared at least.
 
+#include <cstdint>
 #include <span>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "hoidslam/bow/vocabulary.h"
+#include "hoidslam/features/orb_extractor.h"
 #include "hoidslam/slam/data/frame.h"
 #include "hoidslam/slam/data/keyframe.h"
 
@@ -55,6 +57,38 @@ int SearchByBoW(const KeyFrame& keyframe, const Frame& frame, const bow::Feature
 
 // Hamming distance of a map point's descriptor and keypoint i of `keypoints`.
 int DescriptorDistance(const MapPoint& point, const KeypointSet& keypoints, int i);
+
+// The nearest and the second-nearest to one descriptor (Hamming distance) of candidate descriptors offered one at
+// a time: the nearest for a match, both distances for a ratio test. Only a candidate within max_distance can be the
+// nearest: it is as if one at max_distance + 1 had been offered first, so once there is a nearest, the second
+// distance is at most max_distance + 1. With the default, 256 (further than any two descriptors) stands for none.
+class NearestTwo {
+ public:
+  explicit NearestTwo(const std::uint8_t* descriptor, int max_distance = 255)
+      : descriptor_(descriptor), best_distance_(max_distance + 1) {}
+
+  // Candidate `index`, whose descriptor is `candidate`.
+  void Offer(int index, const std::uint8_t* candidate) {
+    const int d = features::DescriptorDistance(descriptor_, candidate);
+    if (d < best_distance_) {
+      second_distance_ = best_distance_;
+      best_distance_ = d;
+      best_ = index;
+    } else if (d < second_distance_) {
+      second_distance_ = d;
+    }
+  }
+
+  int best() const { return best_; }  // the nearest candidate's index; -1: none within max_distance
+  int best_distance() const { return best_distance_; }
+  int second_distance() const { return second_distance_; }
+
+ private:
+  const std::uint8_t* descriptor_;
+  int best_ = -1;
+  int best_distance_;
+  int second_distance_ = 256;
+};
 
 // Keeps the matches whose keypoint orientation change falls in the three most common 12° bins (the others are
 // removed, i.e. set to nullptr in `matches`). `angle_change[i]` is only read where matches[i] is set.

@@ -352,6 +352,56 @@ TEST_F(MatcherTest, SearchByDescriptorSkipsBadPoints) {
   ExpectTrueMatches(matches, {0, 1, 2, 3, 4, 5, 6, 7, 8, 9});
 }
 
+// --- NearestTwo ---
+
+// A descriptor `bits` Hamming bits from the all-zero one: its first `bits` bits set.
+std::array<std::uint8_t, 32> BitsFromZero(int bits) {
+  std::array<std::uint8_t, 32> descriptor{};
+  for (int b = 0; b < bits; ++b) descriptor[static_cast<std::size_t>(b / 8)] |= static_cast<std::uint8_t>(1U << (b % 8));
+  return descriptor;
+}
+
+TEST(NearestTwo, KeepsTheNearestAndTheSecondNearestDistance) {
+  const std::array<std::uint8_t, 32> zero{};
+  NearestTwo nearest(zero.data());
+  EXPECT_EQ(nearest.best(), -1);
+  EXPECT_EQ(nearest.best_distance(), 256);
+  EXPECT_EQ(nearest.second_distance(), 256);
+  const auto offer = [&](int index, int bits) {
+    const std::array<std::uint8_t, 32> candidate = BitsFromZero(bits);
+    nearest.Offer(index, candidate.data());
+  };
+  offer(7, 30);
+  EXPECT_EQ(nearest.best(), 7);
+  EXPECT_EQ(nearest.second_distance(), 256);
+  offer(8, 10);
+  offer(9, 20);
+  offer(10, 10);  // as near as the nearest: the first offered stays the nearest, and the second is as near
+  EXPECT_EQ(nearest.best(), 8);
+  EXPECT_EQ(nearest.best_distance(), 10);
+  EXPECT_EQ(nearest.second_distance(), 10);
+}
+
+TEST(NearestTwo, TakesANearestOnlyWithinItsLimit) {
+  const std::array<std::uint8_t, 32> zero{};
+  const std::array<std::uint8_t, 32> far = BitsFromZero(60), beyond = BitsFromZero(51), limit = BitsFromZero(50),
+                                     near = BitsFromZero(40);
+  NearestTwo nearest(zero.data(), 50);
+  nearest.Offer(1, far.data());
+  EXPECT_EQ(nearest.best(), -1);
+  EXPECT_EQ(nearest.best_distance(), 51);
+  EXPECT_EQ(nearest.second_distance(), 60);
+  nearest.Offer(2, limit.data());
+  EXPECT_EQ(nearest.best(), 2);
+  EXPECT_EQ(nearest.best_distance(), 50);
+  EXPECT_EQ(nearest.second_distance(), 51);  // as if a candidate at 51 had been offered first
+  nearest.Offer(3, beyond.data());
+  nearest.Offer(4, near.data());
+  EXPECT_EQ(nearest.best(), 4);
+  EXPECT_EQ(nearest.best_distance(), 40);
+  EXPECT_EQ(nearest.second_distance(), 50);
+}
+
 // --- KeepConsistentRotations ---
 
 class RotationTest : public ::testing::Test {
