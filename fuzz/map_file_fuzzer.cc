@@ -13,6 +13,7 @@
 #include "fuzz/targets.h"
 #include "hoidslam/features/orb_extractor.h"
 #include "hoidslam/slam/data/map_file.h"
+#include "support/small_vocabulary.h"
 
 namespace hoidslam::fuzz {
 namespace {
@@ -32,11 +33,7 @@ const bow::Vocabulary& TargetVocabulary() {
       for (int row = 0; row < descriptors.rows; ++row) descriptors.row(row).setTo(cv::Scalar((image * 16 + row) * 4));
       images.push_back(descriptors);
     }
-    bow::VocabularyOptions options;
-    options.branching = 4;
-    options.levels = 2;
-    options.threads = 1;
-    return bow::Vocabulary::Train(images, options);
+    return testing::TrainSmallVocabulary(images);
   }();
   return vocabulary;
 }

@@ -14,6 +14,7 @@
 
 #include "hoidslam/core/error.h"
 #include "hoidslam/features/orb_extractor.h"
+#include "support/small_vocabulary.h"
 #include "support/temp_dir.h"
 
 // A namespace of this file's own, for the unity build (scripts/sanitize.sh).
@@ -40,11 +41,7 @@ bow::Vocabulary MakeVocabulary(std::uint64_t seed) {
     rng.fill(descriptors, cv::RNG::UNIFORM, 0, 256);
     images.push_back(descriptors);
   }
-  bow::VocabularyOptions options;
-  options.branching = 4;
-  options.levels = 2;
-  options.threads = 1;
-  return bow::Vocabulary::Train(images, options);
+  return testing::TrainSmallVocabulary(images);
 }
 
 // Keypoints on a lattice, every other one with depth, with random descriptors and colours.
