@@ -4,8 +4,6 @@
 #include <atomic>
 #include <cmath>
 #include <exception>
-#include <fstream>
-#include <iterator>
 #include <limits>
 #include <mutex>
 #include <numeric>
@@ -18,6 +16,7 @@
 #include "hoidslam/bow/k_majority.h"
 #include "hoidslam/core/error.h"
 #include "hoidslam/io/atomic_file.h"
+#include "hoidslam/io/files.h"
 
 namespace hoidslam::bow {
 namespace {
@@ -206,14 +205,7 @@ Vocabulary Vocabulary::Load(std::span<const std::uint8_t> bytes, const std::stri
 }
 
 Vocabulary Vocabulary::Load(const std::filesystem::path& path) {
-  std::error_code error;
-  if (!std::filesystem::is_regular_file(path, error)) {
-    throw core::InputError::InFile(path, "vocabulary file does not exist or is not a file");
-  }
-  std::ifstream file(path, std::ios::binary);
-  const std::vector<std::uint8_t> bytes{std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
-  if (!file.good() && !file.eof()) throw core::InputError::InFile(path, "cannot read the vocabulary file");
-  return Load(bytes, path.string());
+  return Load(io::ReadBinaryFile(path, "vocabulary file"), path.string());
 }
 
 void Vocabulary::Save(const std::filesystem::path& path) const {

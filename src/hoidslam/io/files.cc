@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 #include <fmt/format.h>
@@ -51,6 +53,17 @@ cv::Mat ReadImage(const fs::path& path, int flags, std::string_view what) {
                                                what));
   }
   return image;
+}
+
+std::vector<std::uint8_t> ReadBinaryFile(const fs::path& path, std::string_view what) {
+  std::error_code error;
+  if (!fs::is_regular_file(path, error)) {
+    throw InputError::InFile(path, fmt::format("{} does not exist or is not a file", what));
+  }
+  std::ifstream file(path, std::ios::binary);
+  std::vector<std::uint8_t> bytes{std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
+  if (!file.good() && !file.eof()) throw InputError::InFile(path, fmt::format("cannot read the {}", what));
+  return bytes;
 }
 
 }  // namespace hoidslam::io

@@ -2,6 +2,7 @@
 // Finding and reading the files and folders users give: one place for the rules, so every command and module
 // treats paths and images alike and names the file in every error.
 
+#include <cstdint>
 #include <filesystem>
 #include <string_view>
 #include <vector>
@@ -23,5 +24,10 @@ std::vector<std::filesystem::path> ImagesIn(const std::filesystem::path& folder)
 // cv::imread with every failure (missing, unreadable, corrupt, truncated) an InputError naming the file;
 // `what` says which image it is in the message ("colour", "depth", "texture").
 cv::Mat ReadImage(const std::filesystem::path& path, int flags, std::string_view what);
+
+// Every byte of the file `path`. Throws InputError naming the file when it does not exist or is not a regular file
+// ("<what> does not exist or is not a file") or cannot be read ("cannot read the <what>"); `what` says which file
+// it is ("map file", "vocabulary file").
+std::vector<std::uint8_t> ReadBinaryFile(const std::filesystem::path& path, std::string_view what);
 
 }  // namespace hoidslam::io

@@ -5,8 +5,6 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 #include <unordered_map>
 
 #include <fmt/format.h>
@@ -14,6 +12,7 @@
 #include "hoidslam/bow/vocabulary_file.h"
 #include "hoidslam/core/error.h"
 #include "hoidslam/io/atomic_file.h"
+#include "hoidslam/io/files.h"
 #include "hoidslam/slam/data/keyframe_database.h"
 
 namespace hoidslam::slam {
@@ -451,14 +450,7 @@ void SaveMap(const Map& map, MapId map_id, const Sensor& sensor, const bow::Voca
 
 void LoadMap(const std::filesystem::path& path, const std::shared_ptr<const Sensor>& sensor,
              const bow::Vocabulary& vocabulary, Map& map) {
-  std::error_code error;
-  if (!std::filesystem::is_regular_file(path, error)) {
-    throw core::InputError::InFile(path, "map file does not exist or is not a file");
-  }
-  std::ifstream file(path, std::ios::binary);
-  const std::vector<std::uint8_t> bytes{std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
-  if (!file.good() && !file.eof()) throw core::InputError::InFile(path, "cannot read the map file");
-  const MapFileContent content = DecodeMap(bytes, path.string());
+  const MapFileContent content = DecodeMap(io::ReadBinaryFile(path, "map file"), path.string());
   if (const MapFileCamera camera = MapFileCamera::Of(*sensor); !(content.camera == camera)) {
     throw core::InputError::InFile(path, fmt::format("the map was made with another camera ({}) than this run's ({})",
                                                      Describe(content.camera), Describe(camera)));
