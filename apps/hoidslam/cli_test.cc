@@ -369,6 +369,23 @@ TEST(CliRun, AMapSavedByOneRunIsTrackedAgainstByTheNext) {
   EXPECT_EQ(ReadText(scratch / "again.hmap"), ReadText(map));  // localisation leaves the map as it was
 }
 
+TEST(CliRun, AMapFileThatCannotBeWrittenIsRefusedBeforeTheRun) {
+  const testing::TempDir scratch;
+  const fs::path sequence = Render(scratch, "walking_xyz_static", {3, 1});
+  const fs::path out = scratch / "run";
+  fs::create_directory(scratch / "maps");
+  // A folder that does not exist, and a folder given as the file.
+  for (const fs::path& map : {scratch / "missing" / "office.hmap", scratch / "maps"}) {
+    const RunResult run = RunHoidslam(scratch, {"run", sequence.string(), "--filter", "none", "--save-map",
+                                                map.string(), "--out", out.string()});
+    ExpectOneErrorLine(run, "parameter --save-map: ");
+    EXPECT_THAT(run.err, HasSubstr(map.string()));
+    EXPECT_EQ(run.out, "") << map;  // said before the run, which prints its figures at its end
+    EXPECT_FALSE(fs::exists(out)) << map;
+  }
+  EXPECT_TRUE(fs::is_empty(scratch / "maps"));
+}
+
 // ---- hoidslam masks --------------------------------------------------------------------------------------------
 
 TEST(CliMasks, WritesAMaskPerFrameNamedLikeTheColourImagesAndAList) {

@@ -205,6 +205,8 @@ void RunRun(const RunArgs& args) {
   options.realtime.detector_latency_ms = args.detector_latency_ms;
   options.max_frames = args.frames;
   options.Check();
+  // The map is written at the end of the run: a file that cannot be written is said now, not after the tracking.
+  if (!options.save_map.empty()) io::CheckWritableFile(options.save_map, "--save-map");
 
   const io::RgbdSequence sequence =
       OpenSequence(args.sequence, settings ? std::optional(settings->depth_map_factor) : std::nullopt);

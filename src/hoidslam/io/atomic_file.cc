@@ -48,6 +48,26 @@ void AtomicFile::Commit() {
   committed_ = true;
 }
 
+void CheckWritableFile(const std::filesystem::path& path, const std::string& parameter) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  if (fs::is_directory(path, error)) {
+    throw InputError::ForParameter(parameter, fmt::format("{} is a folder: give the name of a file to write",
+                                                          path.string()));
+  }
+  const fs::path folder = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  if (!fs::is_directory(folder, error)) {
+    throw InputError::ForParameter(parameter, fmt::format("cannot write {}: the folder {} does not exist",
+                                                          path.string(), folder.string()));
+  }
+  try {
+    const AtomicFile probe(path);  // removed again on destruction: never committed
+  } catch (const InputError&) {
+    throw InputError::ForParameter(parameter, fmt::format("cannot write {}: cannot create a file in the folder {}",
+                                                          path.string(), folder.string()));
+  }
+}
+
 namespace {
 
 // "<path>.<what>-<pid>" beside `path`. The pid keeps two jobs writing the same folder apart.

@@ -59,6 +59,11 @@ class AtomicFolder {
   bool committed_ = false;
 };
 
+// For a file a long job writes at its end (hoidslam run --save-map): throws InputError naming `parameter` and `path`
+// unless a file can be written at `path` now: it is not a folder, and its folder exists and takes a new file (a
+// temporary one, created beside `path` and removed again). An existing file at `path` is left as it is.
+void CheckWritableFile(const std::filesystem::path& path, const std::string& parameter);
+
 // A temporary name beside `path` that keeps its extension (so encoders can tell the format by name).
 std::filesystem::path TemporarySibling(const std::filesystem::path& path);
 

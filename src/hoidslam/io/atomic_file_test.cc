@@ -57,6 +57,37 @@ TEST(AtomicFile, MissingFolderIsNamed) {
   }
 }
 
+// The message of the InputError CheckWritableFile throws for `path`, or "" when it throws none.
+std::string WritableFileError(const std::filesystem::path& path) {
+  try {
+    CheckWritableFile(path, "--save-map");
+  } catch (const core::InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(CheckWritableFile, AcceptsANewOrExistingFileInAFolderAndLeavesNothingBehind) {
+  testing::TempDir dir;
+  EXPECT_EQ(WritableFileError(dir / "new.hmap"), "");
+  EXPECT_EQ(CountEntries(dir.path()), 0U);
+  std::ofstream(dir / "old.hmap") << "old\n";
+  EXPECT_EQ(WritableFileError(dir / "old.hmap"), "");
+  EXPECT_EQ(ReadText(dir / "old.hmap"), "old\n");
+  EXPECT_EQ(CountEntries(dir.path()), 1U);
+}
+
+TEST(CheckWritableFile, NamesTheParameterAndTheFileOfAMissingFolderOrAFolder) {
+  testing::TempDir dir;
+  const auto missing = dir / "no-such-folder" / "map.hmap";
+  const std::string missing_error = WritableFileError(missing);
+  EXPECT_EQ(missing_error.rfind("parameter --save-map: cannot write " + missing.string(), 0), 0U) << missing_error;
+  EXPECT_NE(missing_error.find("no-such-folder does not exist"), std::string::npos) << missing_error;
+  const std::string folder_error = WritableFileError(dir.path());
+  EXPECT_EQ(folder_error.rfind("parameter --save-map: " + dir.path().string() + " is a folder", 0), 0U) << folder_error;
+  EXPECT_FALSE(std::filesystem::exists(dir / "no-such-folder"));
+}
+
 TEST(WriteImageAtomically, WritesSixteenBitPngExactly) {
   testing::TempDir dir;
   cv::Mat depth(4, 5, CV_16UC1);
