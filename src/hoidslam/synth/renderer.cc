@@ -328,9 +328,9 @@ class Rasteriser {
     if (area == 0) return;
     if (area < 0) std::swap(b, c);
 
-    const auto sub = static_cast<std::int64_t>(kSubpixel);
-    const auto ceil_div = [sub](std::int64_t value) { return value >= 0 ? (value + sub - 1) / sub : -((-value) / sub); };
-    const auto floor_div = [sub](std::int64_t value) { return value >= 0 ? value / sub : -((-value + sub - 1) / sub); };
+    constexpr auto sub = static_cast<std::int64_t>(kSubpixel);  // a constant: the lambdas need not capture it
+    const auto ceil_div = [](std::int64_t value) { return value >= 0 ? (value + sub - 1) / sub : -((-value) / sub); };
+    const auto floor_div = [](std::int64_t value) { return value >= 0 ? value / sub : -((-value + sub - 1) / sub); };
     const int u_min = static_cast<int>(std::max<std::int64_t>(0, ceil_div(std::min({a.x, b.x, c.x}))));
     const int u_max = static_cast<int>(std::min<std::int64_t>(k_.width - 1, floor_div(std::max({a.x, b.x, c.x}))));
     const int v_min = static_cast<int>(std::max<std::int64_t>(0, ceil_div(std::min({a.y, b.y, c.y}))));
