@@ -18,6 +18,7 @@
 #include "hoidslam/bow/vocabulary.h"
 #include "hoidslam/core/sanitizers.h"
 #include "support/shared_data.h"
+#include "support/sliding_wall.h"
 #include "support/temp_dir.h"
 #include "support/text_file.h"
 
@@ -563,6 +564,18 @@ TEST(CliVocabulary, TrainsOnTheImagesOfFoldersAndWritesAVocabularyThatLoads) {
               StartsWith(fmt::format("{}: {} words (k 4, L 3) from 2 images, {} descriptors; ORB ", out.string(),
                                      vocabulary.word_count(), vocabulary.training_descriptors())));
   EXPECT_THAT(result.out, HasSubstr("identity " + vocabulary.identity() + "\n"));
+}
+
+TEST(CliVocabulary, SaysOneImageInTheSingular) {
+  const testing::TempDir scratch;
+  fs::create_directories(scratch / "one");
+  ASSERT_TRUE(cv::imwrite((scratch / "one" / "wall.png").string(), testing::wall::MakeTexture(3)));
+  const fs::path out = scratch / "one.hbow";
+  const RunResult result = RunHoidslam(scratch, {"vocabulary", "--images", (scratch / "one").string(), "--out",
+                                                 out.string(), "--features", "500", "--branching", "4", "--levels",
+                                                 "2"});
+  ASSERT_EQ(result.exit_status, 0) << result.err;
+  EXPECT_THAT(result.out, HasSubstr(" words (k 4, L 2) from 1 image, "));
 }
 
 TEST(CliVocabulary, NamesWhatIsWrongAndWritesNothing) {

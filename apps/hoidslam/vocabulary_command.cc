@@ -66,10 +66,12 @@ void RunVocabulary(const VocabularyArgs& args) {
   const double extraction_seconds = clock.ElapsedSeconds();
   const bow::Vocabulary vocabulary = bow::Vocabulary::Train(descriptors_per_image, args.options);
   vocabulary.Save(args.out);
-  fmt::print("{}: {} words (k {}, L {}) from {} images, {} descriptors; ORB {:.1f} s, training {:.1f} s; {:.2f} MB, "
+  fmt::print("{}: {} word{} (k {}, L {}) from {} image{}, {} descriptor{}; ORB {:.1f} s, training {:.1f} s; {:.2f} MB, "
              "identity {}\n",
-             args.out, vocabulary.word_count(), vocabulary.branching(), vocabulary.levels(), images.size(),
-             vocabulary.training_descriptors(), extraction_seconds, clock.ElapsedSeconds() - extraction_seconds,
+             args.out, vocabulary.word_count(), vocabulary.word_count() == 1 ? "" : "s", vocabulary.branching(),
+             vocabulary.levels(), images.size(), images.size() == 1 ? "" : "s", vocabulary.training_descriptors(),
+             vocabulary.training_descriptors() == 1 ? "" : "s", extraction_seconds,
+             clock.ElapsedSeconds() - extraction_seconds,
              static_cast<double>(std::filesystem::file_size(args.out)) / 1e6, vocabulary.identity());
 }
 

@@ -44,8 +44,8 @@ TrainingSet GatherDescriptors(const std::vector<cv::Mat>& descriptors_per_image)
   }
   set.image_begin.push_back(set.descriptors.size());
   if (set.descriptors.empty()) {
-    throw core::InputError(fmt::format("vocabulary training: the {} images gave no descriptor",
-                                       descriptors_per_image.size()));
+    throw core::InputError(fmt::format("vocabulary training: the {} image{} gave no descriptor",
+                                       descriptors_per_image.size(), descriptors_per_image.size() == 1 ? "" : "s"));
   }
   if (set.descriptors.size() > std::numeric_limits<std::uint32_t>::max()) {
     throw core::InputError(fmt::format("vocabulary training: {} descriptors, more than 2^32 - 1",

@@ -126,8 +126,8 @@ void CheckTree(const VocabularyTree& tree, const std::string& source) {
     if (i > 0 && node.child_count == 0) {
       ++words;
       if (!(node.idf >= 0.0 && node.idf <= max_idf)) {
-        throw fail(i, fmt::format("word weight {} is outside [0, log({} training images)]", node.idf,
-                                  tree.training_images));
+        throw fail(i, fmt::format("word weight {} is outside [0, log({} training image{})]", node.idf,
+                                  tree.training_images, tree.training_images == 1 ? "" : "s"));
       }
     } else if (i > 0 && node.idf != 0.0) {
       throw fail(i, fmt::format("a weight {} on a node that is not a word", node.idf));
@@ -139,8 +139,9 @@ void CheckTree(const VocabularyTree& tree, const std::string& source) {
   }
   if (tree.training_descriptors < words) {
     throw core::InputError::InFile(
-        source, fmt::format("{} words cannot come from training on {} descriptors of {} images", words,
-                            tree.training_descriptors, tree.training_images));
+        source, fmt::format("{} word{} cannot come from training on {} descriptor{} of {} image{}", words,
+                            words == 1 ? "" : "s", tree.training_descriptors, tree.training_descriptors == 1 ? "" : "s",
+                            tree.training_images, tree.training_images == 1 ? "" : "s"));
   }
 }
 

@@ -161,6 +161,15 @@ TEST(VocabularyFile, TreesThatAreNotTreesAreRejectedNamingTheNode) {
   EXPECT_EQ(rejection_of([](VocabularyTree& t) { t.training_images = 0; }), "tree.hbow: trained on 0 images");
   EXPECT_EQ(rejection_of([](VocabularyTree& t) { t.training_descriptors = 2; }),
             "tree.hbow: 3 words cannot come from training on 2 descriptors of 3 images");
+  // One image, one descriptor: said in the singular.
+  EXPECT_EQ(rejection_of([](VocabularyTree& t) { t.training_images = 1; }),
+            "tree.hbow: node 2: word weight 0.4 is outside [0, log(1 training image)]");
+  EXPECT_EQ(rejection_of([](VocabularyTree& t) {
+              t.training_images = 1;
+              t.training_descriptors = 1;
+              t.nodes[2].idf = t.nodes[3].idf = 0.0;
+            }),
+            "tree.hbow: 3 words cannot come from training on 1 descriptor of 1 image");
 }
 
 TEST(VocabularyFile, LoadNamesAMissingFileAndTheFileItRejects) {

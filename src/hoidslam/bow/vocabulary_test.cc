@@ -219,7 +219,13 @@ TEST(Vocabulary, TrainingWithoutDescriptorsOrWithBadOptionsSaysWhy) {
     Vocabulary::Train({cv::Mat(), cv::Mat()}, VocabularyOptions{});
     FAIL() << "trained on nothing";
   } catch (const core::InputError& e) {
-    EXPECT_THAT(e.what(), HasSubstr("no descriptor"));
+    EXPECT_THAT(e.what(), HasSubstr("the 2 images gave no descriptor"));
+  }
+  try {
+    Vocabulary::Train({cv::Mat()}, VocabularyOptions{});
+    FAIL() << "trained on nothing";
+  } catch (const core::InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("the 1 image gave no descriptor"));
   }
   const std::vector<cv::Mat> some{cv::Mat(3, kDescriptorBytes, CV_8U, cv::Scalar(7))};
   const auto error_of = [&some](VocabularyOptions options) {
