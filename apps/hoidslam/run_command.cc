@@ -237,21 +237,17 @@ void RunRun(const RunArgs& args) {
                                          evaluation->options.ate.association, relocalization_limits);
       json["evaluation"]["relocalizations"] = eval::PoseCheckToJson(*relocalizations, relocalization_limits);
       // Each loop closed, by the relative pose its verification found between its two ends: a false loop bends
-      // the whole map.
-      std::vector<eval::RelativePose> loop_poses;
-      for (const slam::LoopClosure& loop : summary.loops) {
-        loop_poses.push_back({loop.timestamp, loop.loop_timestamp, loop.T_loop_current});
-      }
-      loops = eval::CheckRelativePoses(sequence.groundtruth(), loop_poses, evaluation->options.ate.association,
-                                       relocalization_limits);
-      json["evaluation"]["loops"] = eval::PoseCheckToJson(*loops, relocalization_limits);
-      // A merge the same way: its two ends are in different maps, but their relative pose is measured all the same.
-      std::vector<eval::RelativePose> merge_poses;
-      for (const slam::LoopClosure& merge : summary.merges) {
-        merge_poses.push_back({merge.timestamp, merge.loop_timestamp, merge.T_loop_current});
-      }
-      merges = eval::CheckRelativePoses(sequence.groundtruth(), merge_poses, evaluation->options.ate.association,
+      // the whole map. A merge the same way: its two ends are in different maps, but their relative pose is
+      // measured all the same.
+      const auto check = [&](const std::vector<slam::LoopClosure>& closures) {
+        std::vector<eval::RelativePose> poses;
+        for (const slam::LoopClosure& c : closures) poses.push_back({c.timestamp, c.loop_timestamp, c.T_loop_current});
+        return eval::CheckRelativePoses(sequence.groundtruth(), poses, evaluation->options.ate.association,
                                         relocalization_limits);
+      };
+      loops = check(summary.loops);
+      json["evaluation"]["loops"] = eval::PoseCheckToJson(*loops, relocalization_limits);
+      merges = check(summary.merges);
       json["evaluation"]["merges"] = eval::PoseCheckToJson(*merges, relocalization_limits);
       // Each other map on its own: its frames aligned to the ground truth by themselves.
       json["evaluation"]["other_maps"] = nlohmann::json::array();
@@ -330,23 +326,20 @@ void RunRun(const RunArgs& args) {
                relocalizations->poses.size(), relocalizations->Wrong(), relocalization_limits.max_position_error,
                relocalization_limits.max_rotation_error_deg);
   }
-  if (!summary.loops.empty()) {
-    fmt::print("loops closed: {}", summary.loops.size());
-    if (loops) {
+  // "loops closed: 1, 0 of them false (...)": the count, and how many the ground truth says are wrong.
+  const auto print_closures = [&](std::string_view what, std::size_t count,
+                                  const std::optional<eval::PoseCheck>& check) {
+    if (count == 0) return;
+    fmt::print("{}: {}", what, count);
+    if (check) {
       fmt::print(", {} of them false (their two ends more than {:g} m or {:g}° from the true relative pose)",
-                 loops->Wrong(), relocalization_limits.max_position_error, relocalization_limits.max_rotation_error_deg);
-    }
-    fmt::print("\n");
-  }
-  if (!summary.merges.empty()) {
-    fmt::print("maps merged: {}", summary.merges.size());
-    if (merges) {
-      fmt::print(", {} of them false (their two ends more than {:g} m or {:g}° from the true relative pose)",
-                 merges->Wrong(), relocalization_limits.max_position_error,
+                 check->Wrong(), relocalization_limits.max_position_error,
                  relocalization_limits.max_rotation_error_deg);
     }
     fmt::print("\n");
-  }
+  };
+  print_closures("loops closed", summary.loops.size(), loops);
+  print_closures("maps merged", summary.merges.size(), merges);
   for (const slam::MapSummary& map : summary.maps) {
     if (map.id == summary.main_map) continue;
     fmt::print("map {}: {} frames tracked in a map of its own, never merged ({})", map.id, map.frames,

@@ -228,6 +228,18 @@ TEST(System, AShortLossIsBridgedByTheMotionModelAndSaysWhy) {
   }
 }
 
+// Tracks frame k of a sliding wall one frame's time after the frame tracked last: the camera carried from one view
+// to another, each view lasting a frame.
+struct NextFrame {
+  TrackResult operator()(const cv::Mat& wall, int k) {
+    core::RgbdFrame frame = MakeFrame(wall, k);
+    frame.timestamp = timestamp += 1.0 / 30.0;
+    return system.Track(frame, system.Extract(frame.rgb), {});
+  }
+  System& system;
+  double timestamp;  // of the frame tracked last
+};
+
 TEST(System, ACameraCarriedBackToAPlaceItMappedIsRelocalisedThere) {
   const cv::Mat texture = MakeTexture(3);
   SystemOptions options = Options();
@@ -236,16 +248,10 @@ TEST(System, ACameraCarriedBackToAPlaceItMappedIsRelocalisedThere) {
   ASSERT_NO_FATAL_FAILURE(TrackWholeFrames(system, texture, 20));
   // Two seconds before another wall: lost, too long for the motion model to say where the camera went.
   const cv::Mat elsewhere = MakeTexture(99);
-  double timestamp = MakeFrame(texture, 19).timestamp;
-  for (int k = 0; k < 60; ++k) {
-    core::RgbdFrame frame = MakeFrame(elsewhere, k % 20);
-    frame.timestamp = timestamp += 1.0 / 30.0;
-    ASSERT_EQ(system.Track(frame, system.Extract(frame.rgb), {}).state, TrackingState::kLost) << "frame " << k;
-  }
+  NextFrame next{system, MakeFrame(texture, 19).timestamp};
+  for (int k = 0; k < 60; ++k) ASSERT_EQ(next(elsewhere, k % 20).state, TrackingState::kLost) << "frame " << k;
   // Back where frame 5 was: the keyframes that look like it are found by their words, and the pose is found again.
-  core::RgbdFrame back = MakeFrame(texture, 5);
-  back.timestamp = timestamp + 1.0 / 30.0;
-  const TrackResult result = system.Track(back, system.Extract(back.rgb), {});
+  const TrackResult result = next(texture, 5);
   ASSERT_EQ(result.state, TrackingState::kOk);
   EXPECT_EQ(result.method, TrackingMethod::kRelocalization);
   EXPECT_LT((result.T_cw->translation() - TrueTranslation(5)).norm(), 0.005);
@@ -257,24 +263,19 @@ TEST(System, ACameraCarriedBackFromNewGroundIsRelocalisedInTheFirstMap) {
   ASSERT_NO_FATAL_FAILURE(TrackWholeFrames(system, texture, 20));
   // Two seconds before another wall: lost for a second, then a map of its own is started there.
   const cv::Mat elsewhere = MakeTexture(99);
-  double timestamp = MakeFrame(texture, 19).timestamp;
-  const auto next = [&](const cv::Mat& wall, int k) {
-    core::RgbdFrame frame = MakeFrame(wall, k);
-    frame.timestamp = timestamp += 1.0 / 30.0;
-    return system.Track(frame, system.Extract(frame.rgb), {});
-  };
+  NextFrame next{system, MakeFrame(texture, 19).timestamp};
   TrackResult result;
   for (int k = 0; k < 60; ++k) result = next(elsewhere, k % 20);
   ASSERT_EQ(result.state, TrackingState::kOk);
   EXPECT_EQ(result.map, 1U);
   // Back where frame 5 was: lost in the new map, and a second later found again in the first one.
-  const double back = timestamp;
-  while (timestamp < back + 1.5 && (result = next(texture, 5)).state != TrackingState::kOk) {
+  const double back = next.timestamp;
+  while (next.timestamp < back + 1.5 && (result = next(texture, 5)).state != TrackingState::kOk) {
   }
   ASSERT_EQ(result.state, TrackingState::kOk);
   EXPECT_EQ(result.method, TrackingMethod::kRelocalization);
   EXPECT_EQ(result.map, 0U);
-  EXPECT_GT(timestamp - back, 1.0);
+  EXPECT_GT(next.timestamp - back, 1.0);
   EXPECT_LT((result.T_cw->translation() - TrueTranslation(5)).norm(), 0.005);
   system.Finish();
   // Both maps have frames: the first its 20 and the one found again, the other wall's its own.
@@ -294,12 +295,7 @@ TEST(System, ARelocalisationBeyondTheCameraReachAfterAShortLossIsRefused) {
   // Three frames of another wall, then the view of frame 0, 0.21 m back: further than the camera could go in
   // 0.13 s, so no pose is taken, however well the map fits it.
   const cv::Mat elsewhere = MakeTexture(99);
-  double timestamp = MakeFrame(texture, 19).timestamp;
-  const auto next = [&](const cv::Mat& wall, int k) {
-    core::RgbdFrame frame = MakeFrame(wall, k);
-    frame.timestamp = timestamp += 1.0 / 30.0;
-    return system.Track(frame, system.Extract(frame.rgb), {});
-  };
+  NextFrame next{system, MakeFrame(texture, 19).timestamp};
   for (int k = 0; k < 3; ++k) ASSERT_EQ(next(elsewhere, k).state, TrackingState::kLost);
   const TrackResult refused = next(texture, 0);
   EXPECT_EQ(refused.state, TrackingState::kLost);
@@ -307,10 +303,10 @@ TEST(System, ARelocalisationBeyondTheCameraReachAfterAShortLossIsRefused) {
   // Once a second has passed, the camera may be anywhere: the same view is relocalised, and not before.
   const double last_tracked = MakeFrame(texture, 19).timestamp;
   TrackResult result;
-  while (timestamp < last_tracked + 1.5 && (result = next(texture, 0)).state != TrackingState::kOk) {
+  while (next.timestamp < last_tracked + 1.5 && (result = next(texture, 0)).state != TrackingState::kOk) {
   }
   ASSERT_EQ(result.state, TrackingState::kOk);
-  EXPECT_GT(timestamp - last_tracked, 1.0);
+  EXPECT_GT(next.timestamp - last_tracked, 1.0);
   EXPECT_EQ(result.method, TrackingMethod::kRelocalization);
   EXPECT_LT((result.T_cw->translation() - TrueTranslation(0)).norm(), 0.005);
 }
