@@ -283,7 +283,7 @@ void Session::Finish() {
   summary_.loops = system_->LoopClosures();
   summary_.merges = system_->MapMerges();
   summary_.maps = system_->Maps();
-  summary_.main_map = system_->MainMap();
+  summary_.main_map = slam::MainMapOf(summary_.maps);
   summary_.loop_timings = system_->LoopClosingTimings();
   finished_ = true;
 }

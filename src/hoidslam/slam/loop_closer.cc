@@ -402,22 +402,23 @@ bool LoopCloser::Verify(KeyFrame* keyframe, KeyFrame* candidate, VerifiedLoop& l
 
   // The correction must be one the drift since the place could have made: a texture met twice elsewhere puts the
   // keyframe where the other copy is. (Between two maps there is no drift to compare with.)
-  double path = 0.0;
-  const KeyFrame* previous = nullptr;
-  for (const KeyFrame* k : map_.KeyFrames(keyframe->map_id())) {
-    if (k->id() < candidate->id() || k->id() > keyframe->id()) continue;
-    if (previous != nullptr) path += (k->center() - previous->center()).norm();
-    previous = k;
-  }
-  const core::Pose correction = probe.T_cw * keyframe->T_wc();
-  const double correction_m = correction.inverse().translation().norm();
-  const double correction_deg = core::RotationAngleDegrees(correction.linear());
-  if (candidate->map_id() == keyframe->map_id() &&
-      (correction_m > options_.max_drift_m + options_.max_drift_share * path ||
-       correction_deg > options_.max_drift_deg + options_.max_drift_deg_per_m * path)) {
-    spdlog::debug("loop: keyframe {} and keyframe {}: a correction of {:.3f} m and {:.2f}° after {:.2f} m of path is "
-                  "more than drift", keyframe->id(), candidate->id(), correction_m, correction_deg, path);
-    return false;
+  if (candidate->map_id() == keyframe->map_id()) {
+    double path = 0.0;
+    const KeyFrame* previous = nullptr;
+    for (const KeyFrame* k : map_.KeyFrames(keyframe->map_id())) {
+      if (k->id() < candidate->id() || k->id() > keyframe->id()) continue;
+      if (previous != nullptr) path += (k->center() - previous->center()).norm();
+      previous = k;
+    }
+    const core::Pose correction = probe.T_cw * keyframe->T_wc();
+    const double correction_m = correction.inverse().translation().norm();
+    const double correction_deg = core::RotationAngleDegrees(correction.linear());
+    if (correction_m > options_.max_drift_m + options_.max_drift_share * path ||
+        correction_deg > options_.max_drift_deg + options_.max_drift_deg_per_m * path) {
+      spdlog::debug("loop: keyframe {} and keyframe {}: a correction of {:.3f} m and {:.2f}° after {:.2f} m of path "
+                    "is more than drift", keyframe->id(), candidate->id(), correction_m, correction_deg, path);
+      return false;
+    }
   }
 
   // A place that only looks like the one seen (a texture met twice) fits one view; the keyframe's neighbours, moved
@@ -461,11 +462,7 @@ void LoopCloser::Correct(KeyFrame* keyframe, const VerifiedLoop& loop) {
   const core::Pose T_cw_before = keyframe->T_cw();
 
   // The keyframe's neighbourhood moves with it to where the loop puts it, its points with them.
-  map_.UpdateConnections(keyframe);
-  std::vector<KeyFrame*> connected = {keyframe};
-  for (const auto& [neighbour, weight] : keyframe->covisibles()) {
-    if (!neighbour->bad()) connected.push_back(neighbour);
-  }
+  const std::vector<KeyFrame*> connected = Neighbourhood(keyframe);
   std::unordered_map<const KeyFrame*, core::Pose> uncorrected;  // their poses before, for the essential graph
   std::unordered_map<const MapPoint*, const KeyFrame*> corrected_by;
   for (KeyFrame* k : connected) uncorrected.emplace(k, k->T_cw());
@@ -557,14 +554,19 @@ void LoopCloser::Merge(KeyFrame* keyframe, const VerifiedLoop& loop) {
   // The whole map moves rigidly to where the keyframe's verified pose puts it in the place's map: an RGB-D map has
   // its scale, and what it drifted since it started is left to local mapping and the next loop.
   map_.MergeMaps(from, place->map_id(), loop.T_cw.inverse() * keyframe->T_cw());
+  const std::vector<KeyFrame*> connected = Neighbourhood(keyframe);
+  Join(keyframe, connected, loop);
+  map_.AddLoopEdge(keyframe, place);
+  Record(keyframe, loop, T_cw_before, from);
+}
+
+std::vector<KeyFrame*> LoopCloser::Neighbourhood(KeyFrame* keyframe) {
   map_.UpdateConnections(keyframe);
   std::vector<KeyFrame*> connected = {keyframe};
   for (const auto& [neighbour, weight] : keyframe->covisibles()) {
     if (!neighbour->bad()) connected.push_back(neighbour);
   }
-  Join(keyframe, connected, loop);
-  map_.AddLoopEdge(keyframe, place);
-  Record(keyframe, loop, T_cw_before, from);
+  return connected;
 }
 
 std::vector<std::pair<KeyFrame*, KeyFrame*>> LoopCloser::Join(KeyFrame* keyframe,

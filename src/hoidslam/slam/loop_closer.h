@@ -150,6 +150,8 @@ class LoopCloser {
   bool Verify(KeyFrame* keyframe, KeyFrame* candidate, VerifiedLoop& loop) const;
   void Correct(KeyFrame* keyframe, const VerifiedLoop& loop);
   void Merge(KeyFrame* keyframe, const VerifiedLoop& loop);
+  // The keyframe and its good covisible keyframes, its connections updated first. Exclusive lock held.
+  std::vector<KeyFrame*> Neighbourhood(KeyFrame* keyframe);
   // Makes the two ends one, the keyframe's `connected` neighbourhood already moved to where the loop puts it: the
   // place's points take over the keyframe's keypoints they matched, and the place's neighbourhood is fused into
   // `connected`. Returns the covisibility edges this made across the loop. Exclusive lock held.

@@ -168,12 +168,13 @@ std::vector<MapSummary> System::Maps() const {
   return maps;
 }
 
-MapId System::MainMap() const {
-  const std::vector<MapSummary> maps = Maps();
+MapId MainMapOf(const std::vector<MapSummary>& maps) {
   const auto main = std::max_element(maps.begin(), maps.end(),
                                      [](const MapSummary& a, const MapSummary& b) { return a.frames < b.frames; });
   return main != maps.end() ? main->id : 0;
 }
+
+MapId System::MainMap() const { return MainMapOf(Maps()); }
 
 core::Trajectory System::FrameTrajectory() const { return FrameTrajectory(MainMap()); }
 

@@ -64,6 +64,9 @@ struct MapSummary {
   std::size_t keyframes = 0;
 };
 
+// The main map of these: the one with the most tracked frames (of a tie, the first); 0 when there is none.
+MapId MainMapOf(const std::vector<MapSummary>& maps);
+
 // A map point as the outputs show it.
 struct MapPointSample {
   Eigen::Vector3d position;
@@ -102,7 +105,7 @@ class System {
   // never merged). The main map is the one with the most tracked frames (of a tie, the first): the trajectory, the
   // keyframes, the map points and the map file are its.
   std::vector<MapSummary> Maps() const;
-  MapId MainMap() const;
+  MapId MainMap() const;  // MainMapOf(Maps())
   // Every frame tracked in the map (by default the main one), placed relative to its reference keyframe as the map
   // finally has it.
   core::Trajectory FrameTrajectory() const;

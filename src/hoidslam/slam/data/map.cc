@@ -9,6 +9,16 @@ namespace {
 // Keyframes sharing this many points are connected in the covisibility graph (ORB-SLAM's threshold).
 constexpr int kMinCovisibilityWeight = 15;
 
+// The good (not bad) entities of an arena that `keep` takes, in id order.
+template <typename T, typename Keep>
+std::vector<T*> Good(const std::deque<std::unique_ptr<T>>& arena, Keep keep) {
+  std::vector<T*> good;
+  for (const auto& entity : arena) {
+    if (!entity->bad() && keep(*entity)) good.push_back(entity.get());
+  }
+  return good;
+}
+
 }  // namespace
 
 KeyFrame* Map::CreateKeyFrame(std::uint64_t frame_id, double timestamp, std::shared_ptr<const KeypointSet> keypoints,
@@ -176,39 +186,22 @@ void Map::IndexKeyFrame(KeyFrame* keyframe, bow::ImageWords words) {
 }
 
 std::vector<KeyFrame*> Map::KeyFrames() const {
-  std::vector<KeyFrame*> good;
-  good.reserve(num_good_keyframes_);
-  for (const auto& keyframe : keyframes_) {
-    if (!keyframe->bad_) good.push_back(keyframe.get());
-  }
-  return good;
+  return Good(keyframes_, [](const KeyFrame&) { return true; });
 }
 
 std::vector<MapPoint*> Map::MapPoints() const {
-  std::vector<MapPoint*> good;
-  for (const auto& point : points_) {
-    if (!point->bad_) good.push_back(point.get());
-  }
-  return good;
+  return Good(points_, [](const MapPoint&) { return true; });
 }
 
 std::vector<KeyFrame*> Map::KeyFrames(MapId map) const {
-  std::vector<KeyFrame*> good;
-  for (const auto& keyframe : keyframes_) {
-    if (!keyframe->bad_ && keyframe->map_id_ == map) good.push_back(keyframe.get());
-  }
-  return good;
+  return Good(keyframes_, [map](const KeyFrame& keyframe) { return keyframe.map_id() == map; });
 }
 
 std::vector<MapPoint*> Map::MapPoints(MapId map) const {
   // A point is seen only by keyframes of its map; a good point is seen by at least one.
-  std::vector<MapPoint*> good;
-  for (const auto& point : points_) {
-    if (!point->bad_ && !point->observations_.empty() && point->observations_.front().keyframe->map_id_ == map) {
-      good.push_back(point.get());
-    }
-  }
-  return good;
+  return Good(points_, [map](const MapPoint& point) {
+    return !point.observations().empty() && point.observations().front().keyframe->map_id() == map;
+  });
 }
 
 std::size_t Map::NumKeyFrames(MapId map) const {

@@ -61,7 +61,7 @@ class Map {
   void UpdateConnections(KeyFrame* keyframe);
   // Culls a keyframe: its observations and edges are removed, its children are re-parented to their strongest
   // covisible keyframe among the candidates (its parent and the children already re-parented), and it keeps its
-  // pose relative to its parent. The first keyframe and the ends of a closed loop are never erased.
+  // pose relative to its parent. A map's first keyframe and the ends of a closed loop are never erased.
   void EraseKeyFrame(KeyFrame* keyframe);
   // Makes `parent` the keyframe's spanning-tree parent (a loaded map's tree, before UpdateConnections would choose
   // one); the keyframe must have none yet.
