@@ -4,6 +4,7 @@
 #include <limits>
 #include <map>
 #include <mutex>
+#include <numbers>
 #include <shared_mutex>
 #include <unordered_set>
 
@@ -108,6 +109,13 @@ void TrackerOptions::Check() const {
   positive(max_camera_speed, "Tracking.maxCameraSpeed");
   positive(reach_angle_deg, "Tracking.reachAngle");
   positive(max_camera_turn_rate_deg, "Tracking.maxCameraTurnRate");
+  const auto not_negative = [](double value, const char* name) {
+    if (!(value >= 0.0)) {
+      throw core::InputError::ForParameter(name, fmt::format("must be >= 0 (0: off), got {}", value));
+    }
+  };
+  not_negative(motion_prior_acceleration, "Tracking.motionPriorAcceleration");
+  not_negative(motion_prior_angular_acceleration_deg, "Tracking.motionPriorAngularAcceleration");
   if (!(new_map_after >= 0.0)) {
     throw core::InputError::ForParameter("Tracking.newMapAfter",
                                          fmt::format("must be >= 0 seconds (0: never), got {}", new_map_after));
@@ -119,6 +127,7 @@ void TrackerOptions::Check() const {
   };
   in_unit(min_inlier_share, "Tracking.minInlierShare");
   in_unit(min_inlier_ratio, "Tracking.minInlierRatio");
+  in_unit(doubtful_inlier_ratio, "Tracking.doubtfulInlierRatio");
   in_unit(supported_inlier_ratio, "Tracking.supportedInlierRatio");
   if (!(close_inlier_weight >= 1.0 && close_inlier_weight <= 3.0)) {
     throw core::InputError::ForParameter("Tracking.closeInlierWeight",
@@ -168,10 +177,25 @@ TrackResult Tracker::Track(Frame frame) {
       }
       const double gap = last_frame_ ? frame.timestamp - last_frame_->timestamp
                                      : std::numeric_limits<double>::infinity();
+      motion_prior_ = gap <= options_.max_motion_gap ? MotionPrior(frame) : std::nullopt;
       if (state_ == TrackingState::kOk) {
         const bool just_relocalized =
             last_relocalization_frame_id_ && frame.id <= *last_relocalization_frame_id_ + 2;
         if (velocity_ && !just_relocalized) ok = attempt(TrackingMethod::kMotionModel, TrackWithMotionModel(frame));
+        // A pose most of the local map contradicts may be the prediction's mistake: the reference keyframe is tried
+        // as well, and the pose more points agree with is kept.
+        if (ok && result.inliers < options_.doubtful_inlier_ratio * result.matched) {
+          const Frame predicted = frame;
+          const TrackResult predicted_result = result;
+          const std::vector<MapPoint*> predicted_moving = moving_points_;
+          if (!attempt(TrackingMethod::kReferenceKeyFrame, TrackReferenceKeyFrame(frame)) ||
+              result.inliers <= predicted_result.inliers) {
+            frame = predicted;
+            result = predicted_result;
+            moving_points_ = predicted_moving;
+            failure = TrackingFailure::kNone;
+          }
+        }
         // The prediction may have led to a wrong pose that the local map does not confirm: start again from the
         // reference keyframe before giving the frame up.
         if (!ok) ok = attempt(TrackingMethod::kReferenceKeyFrame, TrackReferenceKeyFrame(frame));
@@ -313,6 +337,22 @@ double Tracker::PredictPose(Frame& frame) const {
   return velocity_seconds_ > 0.0 ? std::clamp(elapsed / velocity_seconds_, 1.0, 4.0) : 1.0;
 }
 
+std::optional<PosePrior> Tracker::MotionPrior(const Frame& frame) const {
+  const double elapsed = frame.timestamp - last_frame_->timestamp;
+  if (!velocity_ || !(elapsed > 0.0) || options_.motion_prior_acceleration <= 0.0 ||
+      options_.motion_prior_angular_acceleration_deg <= 0.0) {
+    return std::nullopt;
+  }
+  PosePrior prior;
+  prior.T_cw = ScaleMotion(*velocity_, velocity_seconds_, elapsed) * last_frame_->T_cw;
+  const double sigma_turn =
+      options_.motion_prior_angular_acceleration_deg * std::numbers::pi / 180.0 * elapsed * elapsed;
+  const double sigma_step = options_.motion_prior_acceleration * elapsed * elapsed;
+  prior.information.diagonal() << Eigen::Vector3d::Constant(1.0 / (sigma_turn * sigma_turn)),
+      Eigen::Vector3d::Constant(1.0 / (sigma_step * sigma_step));
+  return prior;
+}
+
 TrackingFailure Tracker::TrackWithMotionModel(Frame& frame) {
   const Frame& last = *last_frame_;
   // After frames were lost the prediction is rougher: the window grows with them, as far as the motion is scaled.
@@ -324,7 +364,7 @@ TrackingFailure Tracker::TrackWithMotionModel(Frame& frame) {
     matches = SearchByProjection(frame, last, 2.0 * radius);
   }
   if (matches < kMinProjectionMatches) return TrackingFailure::kTooFewMatches;
-  const int inliers = OptimizeFramePose(frame, options_.pose_optimizer, true);
+  const int inliers = OptimizeFramePose(frame, options_.pose_optimizer, true, MotionPriorOrNull());
   spdlog::debug("frame {}: motion model: {} matches, {} inliers", frame.id, matches, inliers);
   return inliers >= kMinFirstEstimateInliers ? TrackingFailure::kNone : TrackingFailure::kPoseRejected;
 }
@@ -346,7 +386,9 @@ TrackingFailure Tracker::TrackFromPrediction(Frame& frame) {
       SearchByProjection(frame, projected, options_.motion_search_radius * frames, kDescriptorDistanceLow);
   if (matches < kMinFirstEstimateInliers) return TrackingFailure::kTooFewMatches;
   const int consistent = EstimatePoseRansac(frame);
-  const int inliers = consistent < kMinFirstEstimateInliers ? 0 : OptimizeFramePose(frame, options_.pose_optimizer, true);
+  const int inliers = consistent < kMinFirstEstimateInliers
+                           ? 0
+                           : OptimizeFramePose(frame, options_.pose_optimizer, true, MotionPriorOrNull());
   spdlog::debug("frame {}: prediction after {:.2f} s: {} matches, {} consistent, {} inliers", frame.id, elapsed,
                 matches, consistent, inliers);
   // RANSAC may settle anywhere the matches agree: only a pose the camera could have reached is taken.
@@ -360,7 +402,7 @@ TrackingFailure Tracker::TrackReferenceKeyFrame(Frame& frame) {
   const int matches = SearchByDescriptor(*reference_keyframe_, frame, frame.map_points);
   frame.T_cw = last_frame_->T_cw;
   if (matches < kMinDescriptorMatches) return TrackingFailure::kTooFewMatches;
-  const int inliers = OptimizeFramePose(frame, options_.pose_optimizer, true);
+  const int inliers = OptimizeFramePose(frame, options_.pose_optimizer, true, MotionPriorOrNull());
   spdlog::debug("frame {}: reference keyframe {}: {} matches, {} inliers", frame.id, reference_keyframe_->id(),
                 matches, inliers);
   return inliers >= kMinFirstEstimateInliers ? TrackingFailure::kNone : TrackingFailure::kPoseRejected;
@@ -436,7 +478,9 @@ TrackingFailure Tracker::TrackLocalMap(Frame& frame, TrackResult& result) {
                 projected.size(), found);
 
   result.matched = CountMatches(frame);
-  result.inliers = OptimizeFramePose(frame, options_.pose_optimizer, false);
+  // A relocalised pose owes nothing to the last frame; any other is held where the camera was heading.
+  const PosePrior* prior = result.method == TrackingMethod::kRelocalization ? nullptr : MotionPriorOrNull();
+  result.inliers = OptimizeFramePose(frame, options_.pose_optimizer, false, prior);
   for (int i = 0; i < frame.size(); ++i) {
     if (frame.IsInlier(i)) frame.map_points[static_cast<std::size_t>(i)]->IncreaseFound();
   }

@@ -28,6 +28,7 @@ struct Correspondences {
   std::span<const Eigen::Vector3d> points_w;
   std::span<const KeypointMeasurement> measurements;
   const PoseOptimizerOptions& options;
+  const PosePrior* prior;
 
   double Threshold(std::size_t i) const {
     return measurements[i].has_depth ? options.chi2_stereo : options.chi2_mono;
@@ -105,6 +106,17 @@ Linearization Linearize(const Correspondences& c, const std::vector<std::uint8_t
     lin.b.tail<3>() += g;
   }
   lin.H.bottomLeftCorner<3, 3>() = lin.H.topRightCorner<3, 3>().transpose();
+  if (c.prior != nullptr) {
+    // δ with T = exp(δ) T_prior, to first order (its Jacobian taken as the identity: the prior's error is small).
+    const Eigen::Matrix3d dR = R * c.prior->T_cw.rotation().transpose();
+    const Eigen::AngleAxisd turn(dR);
+    Vector6d r;
+    r << turn.angle() * turn.axis(), t - dR * c.prior->T_cw.translation();
+    const Vector6d weighted = c.prior->information * r;
+    lin.cost += r.dot(weighted);
+    lin.H += c.prior->information;
+    lin.b += weighted;
+  }
   return lin;
 }
 
@@ -161,7 +173,7 @@ void RunRound(const Correspondences& c, const std::vector<std::uint8_t>& active,
 
 int OptimizePose(const RgbdCamera& camera, std::span<const Eigen::Vector3d> points_w,
                  std::span<const KeypointMeasurement> measurements, core::Pose& T_cw, std::vector<std::uint8_t>& outlier,
-                 const PoseOptimizerOptions& options) {
+                 const PoseOptimizerOptions& options, const PosePrior* prior) {
   if (points_w.size() != measurements.size()) {
     throw std::invalid_argument("OptimizePose: " + std::to_string(points_w.size()) + " points but " +
                                 std::to_string(measurements.size()) + " measurements");
@@ -171,7 +183,7 @@ int OptimizePose(const RgbdCamera& camera, std::span<const Eigen::Vector3d> poin
     outlier.assign(n, 1);
     return 0;
   }
-  const Correspondences c{camera, points_w, measurements, options};
+  const Correspondences c{camera, points_w, measurements, options, prior};
 
   Eigen::Quaterniond q(T_cw.rotation());
   q.normalize();
@@ -209,7 +221,7 @@ int OptimizePose(const RgbdCamera& camera, std::span<const Eigen::Vector3d> poin
   return inliers;
 }
 
-int OptimizeFramePose(Frame& frame, const PoseOptimizerOptions& options, bool drop_outliers) {
+int OptimizeFramePose(Frame& frame, const PoseOptimizerOptions& options, bool drop_outliers, const PosePrior* prior) {
   std::vector<Eigen::Vector3d> points;
   std::vector<KeypointMeasurement> measurements;
   std::vector<int> index;
@@ -222,7 +234,7 @@ int OptimizeFramePose(Frame& frame, const PoseOptimizerOptions& options, bool dr
   }
   std::vector<std::uint8_t> outlier;
   const int inliers = OptimizePose(frame.keypoints->sensor().camera, points, measurements, frame.T_cw, outlier,
-                                   options);
+                                   options, prior);
   for (std::size_t k = 0; k < index.size(); ++k) {
     const auto i = static_cast<std::size_t>(index[k]);
     frame.outlier[i] = outlier.empty() ? 1 : outlier[k];

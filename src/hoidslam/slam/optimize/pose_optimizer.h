@@ -21,6 +21,16 @@ struct PoseOptimizerOptions {
   double chi2_stereo = kChi2Stereo;  // outlier threshold for keypoints with depth (3 dof)
 };
 
+// A soft prior on the pose: where the camera is expected (T_cw), and how firmly, as the information (inverse
+// covariance) of the increment δ = (ω, υ) that takes the expected pose to the estimate, T = exp(δ) T_cw. To first
+// order ω is the turn and υ the camera centre's displacement, both in the camera's frame. Where the keypoints
+// constrain the pose well it changes nothing; where they leave a direction open (far points in one corner of the
+// image, where a sideways step looks like a turn) it holds the pose there.
+struct PosePrior {
+  core::Pose T_cw = core::Pose::Identity();
+  Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
+};
+
 // Refines T_cw (world to camera) from the correspondences points_w[i] ↔ measurements[i]. Every correspondence
 // starts as an inlier; after each round, each is classified by its χ² error (squared residual times inv_sigma2)
 // against the threshold, and outliers take no part in the next round (but are classified again after it). All
@@ -29,13 +39,16 @@ struct PoseOptimizerOptions {
 // and T_cw the refined pose; returns the number of inliers. With fewer than 3 correspondences T_cw is left
 // unchanged, all are marked outliers and 0 is returned; a round with fewer than 3 inliers leaves the pose as it
 // is. Levenberg-Marquardt with analytic Jacobians and a left SE(3) increment; a round stops early once the
-// update is negligible. Throws std::invalid_argument when the two spans differ in size. Deterministic.
+// update is negligible. With a `prior` its squared error (weighted by its information) joins the cost in every
+// round; it takes no part in the classification. Throws std::invalid_argument when the two spans differ in size.
+// Deterministic.
 int OptimizePose(const RgbdCamera& camera, std::span<const Eigen::Vector3d> points_w,
                  std::span<const KeypointMeasurement> measurements, core::Pose& T_cw, std::vector<std::uint8_t>& outlier,
-                 const PoseOptimizerOptions& options = {});
+                 const PoseOptimizerOptions& options = {}, const PosePrior* prior = nullptr);
 
 // OptimizePose over a frame's matches: refines frame.T_cw and sets frame.outlier; with `drop_outliers` the
 // outliers' matches are cleared instead. Returns the inliers.
-int OptimizeFramePose(Frame& frame, const PoseOptimizerOptions& options, bool drop_outliers);
+int OptimizeFramePose(Frame& frame, const PoseOptimizerOptions& options, bool drop_outliers,
+                      const PosePrior* prior = nullptr);
 
 }  // namespace hoidslam::slam

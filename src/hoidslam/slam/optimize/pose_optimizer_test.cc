@@ -29,9 +29,15 @@ struct Scene {
 // Each random number is drawn in a statement of its own: the order in which a call's arguments are evaluated is
 // unspecified (GCC goes right to left, clang left to right), and the scene must not depend on the compiler. The
 // order is GCC's, with which the thresholds below were set.
-// `n` points 1-6 m in front of a camera at T_cw_true, seen with `pixel_noise` (σ in pixels at level 0), a
-// `depth_fraction` of them with depth.
-Scene MakeScene(int n, double depth_fraction, double pixel_noise, std::uint32_t seed) {
+// Where the points are: a share of the image's width from its left edge, and a range of depths.
+struct View {
+  double width_share = 1.0;
+  double near = 1.0, far = 6.0;  // metres
+};
+
+// `n` points in `view` of a camera at T_cw_true (the whole image, 1-6 m away, by default), seen with `pixel_noise`
+// (σ in pixels at level 0), a `depth_fraction` of them with depth.
+Scene MakeScene(int n, double depth_fraction, double pixel_noise, std::uint32_t seed, const View& view = {}) {
   Scene s;
   s.T_cw_true = testing::PoseFromAxisAngle(Eigen::Vector3d(0.1, -0.3, 0.05), Eigen::Vector3d(0.4, -0.2, 1.0));
   const core::Pose T_wc = s.T_cw_true.inverse();
@@ -40,9 +46,9 @@ Scene MakeScene(int n, double depth_fraction, double pixel_noise, std::uint32_t 
   std::normal_distribution<double> noise(0.0, 1.0);
   std::uniform_int_distribution<int> level(0, 7);
   while (static_cast<int>(s.points_w.size()) < n) {
-    const double z = 1.0 + 5.0 * unit(rng);
+    const double z = view.near + (view.far - view.near) * unit(rng);
     const double v = unit(rng);
-    const double u = unit(rng);
+    const double u = view.width_share * unit(rng);
     const Eigen::Vector3d p_c((u * 640.0 - s.camera.cx) * z / s.camera.fx, (v * 480.0 - s.camera.cy) * z / s.camera.fy,
                               z);
     KeypointMeasurement m;
@@ -186,6 +192,41 @@ TEST(OptimizePose, IsDeterministic) {
             OptimizePose(s.camera, s.points_w, s.measurements, b, outlier_b));
   EXPECT_TRUE(a.matrix() == b.matrix());
   EXPECT_EQ(outlier_a, outlier_b);
+}
+
+// A prior as the tracker gives one: 10 mm and 1° (at 30 Hz) around `T_cw`.
+PosePrior PriorAround(const core::Pose& T_cw) {
+  PosePrior prior;
+  prior.T_cw = T_cw;
+  prior.information.diagonal() << Eigen::Vector3d::Constant(1.0 / (kDeg * kDeg)), Eigen::Vector3d::Constant(1e4);
+  return prior;
+}
+
+TEST(OptimizePose, APriorChangesLittleWhereTheKeypointsFixThePose) {
+  const Scene s = MakeScene(300, 0.7, 1.0, 2);
+  // The prior 3 cm and 1.5° off: the keypoints, seen all over the image, outweigh it.
+  const PosePrior prior = PriorAround(
+      testing::PoseFromAxisAngle(Eigen::Vector3d(1.0, 0.5, -1.0) * kDeg, Eigen::Vector3d(0.02, -0.02, 0.01)) *
+      s.T_cw_true);
+  core::Pose T = Perturbed(s.T_cw_true);
+  std::vector<std::uint8_t> outlier;
+  EXPECT_GT(OptimizePose(s.camera, s.points_w, s.measurements, T, outlier, {}, &prior), 260);
+  EXPECT_LT(RotationErrorDeg(T, s.T_cw_true), 0.05);
+  EXPECT_LT(TranslationError(T, s.T_cw_true), 5e-3);
+}
+
+TEST(OptimizePose, APriorHoldsTheDirectionFarPointsInOneStripLeaveOpen) {
+  // 40 points 4-4.5 m away in the left sixth of the image, few with depth: a sideways step looks like a turn.
+  const Scene s = MakeScene(40, 0.2, 1.0, 10, View{.width_share = 1.0 / 6.0, .near = 4.0, .far = 4.5});
+  std::vector<std::uint8_t> outlier;
+  core::Pose free = Perturbed(s.T_cw_true);
+  OptimizePose(s.camera, s.points_w, s.measurements, free, outlier);
+  const PosePrior prior = PriorAround(s.T_cw_true);
+  core::Pose held = Perturbed(s.T_cw_true);
+  OptimizePose(s.camera, s.points_w, s.measurements, held, outlier, {}, &prior);
+  EXPECT_GT(TranslationError(free, s.T_cw_true), 0.04);
+  EXPECT_LT(TranslationError(held, s.T_cw_true), 0.02);  // within twice the prior's σ
+  EXPECT_LT(RotationErrorDeg(held, s.T_cw_true), 0.3);
 }
 
 TEST(OptimizePose, RejectsSpansOfDifferentSizes) {
