@@ -333,8 +333,12 @@ double Tracker::PredictPose(Frame& frame) const {
     frame.T_cw = last.T_cw;
     return 0.0;
   }
-  frame.T_cw = ScaleMotion(*velocity_, velocity_seconds_, elapsed) * last.T_cw;
+  frame.T_cw = Predicted(elapsed);
   return velocity_seconds_ > 0.0 ? std::clamp(elapsed / velocity_seconds_, 1.0, 4.0) : 1.0;
+}
+
+core::Pose Tracker::Predicted(double elapsed) const {
+  return ScaleMotion(*velocity_, velocity_seconds_, elapsed) * last_frame_->T_cw;
 }
 
 std::optional<PosePrior> Tracker::MotionPrior(const Frame& frame) const {
@@ -344,7 +348,7 @@ std::optional<PosePrior> Tracker::MotionPrior(const Frame& frame) const {
     return std::nullopt;
   }
   PosePrior prior;
-  prior.T_cw = ScaleMotion(*velocity_, velocity_seconds_, elapsed) * last_frame_->T_cw;
+  prior.T_cw = Predicted(elapsed);
   const double sigma_turn =
       options_.motion_prior_angular_acceleration_deg * std::numbers::pi / 180.0 * elapsed * elapsed;
   const double sigma_step = options_.motion_prior_acceleration * elapsed * elapsed;

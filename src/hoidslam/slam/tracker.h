@@ -158,6 +158,8 @@ class Tracker {
   // measured motion scaled to the time elapsed (no measured motion: standing still). Returns how many frames'
   // worth of motion that is, 1 to 4 (0 without a measured motion), by which search windows grow.
   double PredictPose(Frame& frame) const;
+  // Where the measured motion puts the camera `elapsed` seconds after the last tracked frame (a motion measured).
+  core::Pose Predicted(double elapsed) const;
   // The prediction as a soft prior (TrackerOptions::motion_prior_*), when there is a measured motion.
   std::optional<PosePrior> MotionPrior(const Frame& frame) const;
   const PosePrior* MotionPriorOrNull() const { return motion_prior_ ? &*motion_prior_ : nullptr; }
