@@ -85,6 +85,12 @@ std::vector<ProjectedPoint> PointsInView(const std::vector<KeyFrame*>& keyframes
 
 }  // namespace
 
+core::Pose FollowKeyFrame(const core::Pose& T_cw, const core::Pose& keyframe_T_cw_then,
+                          const core::Pose& keyframe_T_cw_now) {
+  if (keyframe_T_cw_now.matrix() == keyframe_T_cw_then.matrix()) return T_cw;
+  return T_cw * keyframe_T_cw_then.inverse() * keyframe_T_cw_now;
+}
+
 std::string_view ToString(TrackingState state) { return core::EnumName(kStateNames, state); }
 std::string_view ToString(TrackingMethod method) { return core::EnumName(kMethodNames, method); }
 std::string_view ToString(TrackingFailure failure) { return core::EnumName(kFailureNames, failure); }
@@ -150,6 +156,7 @@ TrackResult Tracker::Track(Frame frame) {
   result.keypoints = frame.size();
   TrackingFailure failure = TrackingFailure::kNone;
   bool make_keyframe = false;
+  Placement placement;
   OpenNewMapWhenLostLong(frame);
   // Tries a first estimate, then confirms it against the local map.
   const auto attempt = [&](TrackingMethod method, TrackingFailure first_estimate) {
@@ -222,6 +229,7 @@ TrackResult Tracker::Track(Frame frame) {
           velocity_.reset();
         }
         make_keyframe = !localization_ && NeedNewKeyFrame(frame, result.inliers);
+        placement = PlaceAgainst(frame.reference_keyframe != nullptr ? frame.reference_keyframe : reference_keyframe_);
       }
     }
   }
@@ -239,6 +247,7 @@ TrackResult Tracker::Track(Frame frame) {
     std::unique_lock lock(map_.mutex());
     ok = Initialize(frame);
     if (ok) {
+      placement = PlaceAgainst(frame.reference_keyframe);
       result.method = TrackingMethod::kInitialization;
       result.keyframe = true;
       result.matched = result.inliers = frame.keypoints->num_with_depth();
@@ -255,7 +264,9 @@ TrackResult Tracker::Track(Frame frame) {
     // Queued under the lock, and not at all while a loop is being corrected (LocalMapper::Pause).
     std::unique_lock lock(map_.mutex());
     if (!local_mapper_.Paused()) {
+      Follow(frame, placement);
       CreateKeyFrame(frame);
+      placement = PlaceAgainst(frame.reference_keyframe);
       result.keyframe = true;
       local_mapper_.Insert(last_keyframe_);
     }
@@ -263,15 +274,17 @@ TrackResult Tracker::Track(Frame frame) {
 
   if (ok) {
     state_ = TrackingState::kOk;
-    result.T_cw = frame.T_cw;
     if (frame.reference_keyframe == nullptr) frame.reference_keyframe = reference_keyframe_;
     reference_keyframe_ = frame.reference_keyframe;
     {
-      // Local mapping's bundle adjustment may be moving the reference keyframe right now.
+      // Local mapping's bundle adjustment may be moving the reference keyframe right now, and loop closing may have
+      // moved it since the frame was tracked.
       std::shared_lock lock(map_.mutex());
+      Follow(frame, placement);
       records_.push_back({frame.timestamp, reference_keyframe_, frame.T_cw * reference_keyframe_->T_wc()});
       result.map = reference_keyframe_->map_id();
     }
+    result.T_cw = frame.T_cw;
     lost_since_.reset();
     last_record_ = records_.back();
     // The next frame searches from this one's inliers only.
@@ -289,6 +302,10 @@ TrackResult Tracker::Track(Frame frame) {
   }
   result.state = state_;
   return result;
+}
+
+void Tracker::Follow(Frame& frame, const Placement& placement) {
+  frame.T_cw = FollowKeyFrame(frame.T_cw, placement.keyframe_T_cw, placement.keyframe->T_cw());
 }
 
 void Tracker::StartInLoadedMap(bool localization) {

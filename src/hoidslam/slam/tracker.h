@@ -126,6 +126,12 @@ struct TrackResult {
   MapId map = 0;  // when tracked: the map it was tracked in (map.h); a later merge may move it into another
 };
 
+// Where a frame tracked against a keyframe stands once that keyframe has moved (a loop corrected, a map merged into
+// another's world frame, a bundle adjustment): the frame keeps its pose relative to the keyframe. Bit for bit T_cw
+// when the keyframe has not moved.
+core::Pose FollowKeyFrame(const core::Pose& T_cw, const core::Pose& keyframe_T_cw_then,
+                          const core::Pose& keyframe_T_cw_now);
+
 class Tracker {
  public:
   // Lost frames are described with `vocabulary` to find their place; it must outlive the tracker.
@@ -188,6 +194,16 @@ class Tracker {
   // The safety net: counts the frame's misfitting matches and collects the points that misfit too often.
   void FindMovingPoints(const Frame& frame, const TrackResult& result);
   bool NeedNewKeyFrame(const Frame& frame, int inliers) const;
+  // The keyframe a tracked frame was placed against, and that keyframe's pose, taken under the lock the frame's pose
+  // was found under. Loop closing may move the map before tracking takes the lock again to make a keyframe or record
+  // the frame (in a merge, by a whole map's change of world frame): the frame then follows its keyframe
+  // (FollowKeyFrame), or the keyframe and the record would be made from a pose in the old frame.
+  struct Placement {
+    const KeyFrame* keyframe = nullptr;
+    core::Pose keyframe_T_cw = core::Pose::Identity();
+  };
+  static Placement PlaceAgainst(const KeyFrame* keyframe) { return {keyframe, keyframe->T_cw()}; }
+  static void Follow(Frame& frame, const Placement& placement);
   void CreateKeyFrame(Frame& frame);
 
   Map& map_;
