@@ -12,6 +12,7 @@
 
 #include "hoidslam/core/camera.h"
 #include "hoidslam/core/error.h"
+#include "support/geometry.h"
 #include "support/shared_data.h"
 #include "support/temp_dir.h"
 #include "support/text_file.h"
@@ -19,14 +20,8 @@
 namespace hoidslam::synth {
 namespace {
 
+using ::hoidslam::testing::PoseFromAxisAngle;
 using ::hoidslam::testing::WriteText;
-
-core::Pose MakePose(const Eigen::Vector3d& t, double angle, const Eigen::Vector3d& axis) {
-  core::Pose pose = core::Pose::Identity();
-  pose.linear() = Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
-  pose.translation() = t;
-  return pose;
-}
 
 void ExpectPoseNear(const core::Pose& a, const core::Pose& b, double tolerance) {
   EXPECT_LT((a.translation() - b.translation()).norm(), tolerance);
@@ -44,9 +39,9 @@ std::string Message(const std::function<void()>& action) {
 
 
 TEST(CameraPath, InterpolationIsExactOnKnotsAndHalfwayBetween) {
-  const core::Trajectory trajectory = {{10.0, MakePose({0, 0, 0}, 0.0, {0, 0, 1})},
-                                       {11.0, MakePose({1, 2, 0}, 0.4, {0, 0, 1})},
-                                       {13.0, MakePose({1, 2, 3}, 0.4, {1, 0, 0})}};
+  const core::Trajectory trajectory = {{10.0, PoseFromAxisAngle({0, 0, 0}, {0, 0, 0})},
+                                       {11.0, PoseFromAxisAngle({0, 0, 0.4}, {1, 2, 0})},
+                                       {13.0, PoseFromAxisAngle({0.4, 0, 0}, {1, 2, 3})}};
   for (const core::StampedPose& knot : trajectory) ExpectPoseNear(InterpolatePose(trajectory, knot.timestamp), knot.T_wc, 1e-12);
   const core::Pose half = InterpolatePose(trajectory, 10.5);
   EXPECT_LT((half.translation() - Eigen::Vector3d(0.5, 1.0, 0.0)).norm(), 1e-12);
@@ -92,7 +87,9 @@ TEST_F(TumFiles, ReanchorsTheFirstPoseAndKeepsRelativeMotion) {
 
   const core::Trajectory truth = [&] {
     core::Trajectory t;
-    for (int i = 0; i <= 5; ++i) t.push_back({100.0 + 0.1 * i, MakePose({0.2 * i, -3.0, 1.4}, 0.1 * i, {0, 0, 1})});
+    for (int i = 0; i <= 5; ++i) {
+      t.push_back({100.0 + 0.1 * i, PoseFromAxisAngle({0, 0, 0.1 * i}, {0.2 * i, -3.0, 1.4})});
+    }
     return t;
   }();
   const core::Pose first_tum = InterpolatePose(truth, path.frames().front().timestamp);
@@ -167,8 +164,8 @@ TEST(CameraPath, ProceduralFramesTooFastForTheStampsAreAnError) {
 }
 
 TEST(CameraPath, LerpPoseIsExactAtItsEnds) {
-  const core::Pose a = MakePose({1, 2, 3}, 0.3, {1, 1, 0});
-  const core::Pose b = MakePose({-1, 0, 2}, 1.1, {0, 1, 1});
+  const core::Pose a = PoseFromAxisAngle(0.3 * Eigen::Vector3d(1, 1, 0).normalized(), {1, 2, 3});
+  const core::Pose b = PoseFromAxisAngle(1.1 * Eigen::Vector3d(0, 1, 1).normalized(), {-1, 0, 2});
   EXPECT_TRUE(LerpPose(a, b, 0.0).isApprox(a, 0.0));
   EXPECT_TRUE(LerpPose(a, b, 1.0).isApprox(b, 0.0));
   const core::Pose half = LerpPose(a, b, 0.5);
