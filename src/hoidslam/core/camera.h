@@ -25,4 +25,23 @@ struct CameraIntrinsics {
   }
 };
 
+// Standard deviation (metres) of a Kinect-class depth measurement at depth z (metres), after Nguyen, Izadi & Lovell
+// (2012): 0.0012 + 0.0019 (z − 0.4)².
+inline double KinectDepthSigma(double z) { return 0.0012 + 0.0019 * (z - 0.4) * (z - 0.4); }
+
+// How far the final map adjustment trusts a depth measurement: σ(z) = factor × KinectDepthSigma(z), the factor
+// covering what the model leaves out (depth and colour registered imperfectly, keypoints on depth edges, sensors
+// noisier than a Kinect). Elsewhere depth is weighed as ORB-SLAM3 weighs it, as one pixel of the virtual right
+// coordinate (some 10 cm at 2 m with a 40 px·m baseline).
+struct DepthNoiseModel {
+  double factor = 2.0;  // > 0
+
+  double Sigma(double z) const { return factor * KinectDepthSigma(z); }
+  // 1 / σ² of the disparity bf / z measured at depth z: σ_d = bf σ(z) / z².
+  double DisparityInformation(double bf, double z) const {
+    const double sigma_d = bf * Sigma(z) / (z * z);
+    return 1.0 / (sigma_d * sigma_d);
+  }
+};
+
 }  // namespace hoidslam::core

@@ -96,6 +96,7 @@ void CheckSettings(const Settings& settings, Spelling spelling) {
   RequirePositive(kThDepth.Name(spelling), settings.th_depth);
   // Files of version 1.0 give Stereo.b, which is checked where it is read.
   RequirePositive(kBf.Name(Spelling::kOriginal), settings.bf);
+  RequirePositive("Depth.noiseFactor", settings.depth_noise.factor);
   settings.orb.Check();
   settings.hoid.Check();
 }
@@ -266,6 +267,7 @@ Settings ReadSettings(const yaml::Value& root) {
     RequirePositive(name, baseline);
     settings.bf = baseline * camera.fx;
   }
+  read("Depth.noiseFactor", settings.depth_noise.factor);
 
   core::OrbOptions& orb = settings.orb;
   read("ORBextractor.nFeatures", orb.n_features);

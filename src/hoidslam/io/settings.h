@@ -21,6 +21,7 @@ struct Settings {
   double depth_map_factor = 5000.0;  // DepthMapFactor: depth image units per metre (TUM, Bonn: 5000), > 0
   double th_depth = 40.0;            // ThDepth: the close/far depth threshold, in baselines, > 0
   double bf = 40.0;                  // Camera.bf: baseline (metres) times fx (pixels), > 0
+  core::DepthNoiseModel depth_noise;  // Depth.noiseFactor: its factor, > 0 (the final map adjustment's depth weight)
   // Camera.RGB: the images' colour order as ORB-SLAM3 states it (1: RGB, 0: BGR). hoidslam reads images with
   // OpenCV, which always yields BGR, so the key is kept for compatibility and changes nothing.
   bool rgb_order = true;

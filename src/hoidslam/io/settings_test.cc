@@ -93,6 +93,7 @@ TEST_F(SettingsFile, MissingOptionalKeysAndHoidSectionTakeTheDefaults) {
   EXPECT_DOUBLE_EQ(settings.depth_map_factor, 5000.0);
   EXPECT_DOUBLE_EQ(settings.th_depth, 40.0);
   EXPECT_DOUBLE_EQ(settings.bf, 40.0);
+  EXPECT_DOUBLE_EQ(settings.depth_noise.factor, 2.0);
   EXPECT_TRUE(settings.rgb_order);
   EXPECT_EQ(settings.orb.n_levels, defaults.orb.n_levels);
   EXPECT_EQ(settings.hoid.mode, defaults.hoid.mode);
@@ -107,7 +108,7 @@ TEST_F(SettingsFile, ReadsEveryKeyOfTheOriginalSpellingAndTheHoidSection) {
   const Settings settings = LoadSettings(Write(
       "%YAML:1.0\nCamera.fx: 500.0\nCamera.fy: 501.0\nCamera.cx: 330.0\nCamera.cy: 250.0\nCamera.k1: 0.1\n"
       "Camera.k2: -0.2\nCamera.p1: 0.003\nCamera.p2: -0.004\nCamera.k3: 0.5\nCamera.width: 752\nCamera.height: 560\n"
-      "Camera.fps: 15\nCamera.RGB: 0\nCamera.bf: 50.0\nThDepth: 35.0\nDepthMapFactor: 1000.0\n"
+      "Camera.fps: 15\nCamera.RGB: 0\nCamera.bf: 50.0\nThDepth: 35.0\nDepthMapFactor: 1000.0\nDepth.noiseFactor: 3.0\n"
       "ORBextractor.nFeatures: 1500.0\nORBextractor.scaleFactor: 1.3\nORBextractor.nLevels: 6\n"
       "ORBextractor.iniThFAST: 25\nORBextractor.minThFAST: 9\n"
       "HOID.mode: \"hoid3d\"\nHOID.minInteractionArea: 0.3\nHOID.depthThreshold: 0.25\nHOID.sampleBoxSize: 16\n"
@@ -130,6 +131,7 @@ TEST_F(SettingsFile, ReadsEveryKeyOfTheOriginalSpellingAndTheHoidSection) {
   EXPECT_DOUBLE_EQ(settings.bf, 50.0);
   EXPECT_DOUBLE_EQ(settings.th_depth, 35.0);
   EXPECT_DOUBLE_EQ(settings.depth_map_factor, 1000.0);
+  EXPECT_DOUBLE_EQ(settings.depth_noise.factor, 3.0);
   EXPECT_DOUBLE_EQ(settings.CloseDepthThreshold(), 35.0 * 50.0 / 500.0);
   EXPECT_EQ(settings.orb.n_features, 1500);
   EXPECT_DOUBLE_EQ(settings.orb.scale_factor, 1.3);
@@ -221,6 +223,8 @@ INSTANTIATE_TEST_SUITE_P(
                       BadValue{"Camera.type", "\"KannalaBrandt8\"", "Camera.type", "PinHole"},
                       BadValue{"ThDepth", "0", "ThDepth", "must be > 0"},
                       BadValue{"DepthMapFactor", "-5000", "DepthMapFactor", "must be > 0"},
+                      BadValue{"Depth.noiseFactor", "0", "Depth.noiseFactor", "must be > 0"},
+                      BadValue{"Depth.noiseFactor", ".nan", "Depth.noiseFactor", "must be > 0"},
                       BadValue{"ORBextractor.nFeatures", "0", "ORBextractor.nFeatures", "must be >= 1"},
                       BadValue{"ORBextractor.nFeatures", "1000.5", "ORBextractor.nFeatures", "must be an integer"},
                       BadValue{"ORBextractor.scaleFactor", "1.0", "ORBextractor.scaleFactor", "must be > 1"},

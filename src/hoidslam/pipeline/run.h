@@ -113,6 +113,7 @@ struct RunSummary {
   std::vector<slam::MapSummary> maps;     // with tracked frames, by id
   slam::MapId main_map = 0;
   slam::LoopCloser::Timings loop_timings;
+  double final_adjustment_ms = 0.0;  // System::FinalAdjustmentMilliseconds
   std::vector<StageTimes> times;     // one per frame
   // Per frame judged by detections: how many frames and ms (of the recording) the detections were older than the
   // frame, and how long the detector took on them, waiting included.

@@ -279,6 +279,7 @@ void Session::Finish() {
   if (finished_) return;
   detections_.reset();  // the detector thread stops: the detector is the caller's again
   system_->Finish();
+  summary_.final_adjustment_ms = system_->FinalAdjustmentMilliseconds();
   if (!options_.save_map.empty()) system_->SaveMap(options_.save_map);
   summary_.loops = system_->LoopClosures();
   summary_.merges = system_->MapMerges();

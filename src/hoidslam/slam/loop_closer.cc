@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <mutex>
 #include <random>
 #include <shared_mutex>
@@ -80,6 +81,17 @@ std::vector<std::size_t> RigidRansac(const KeyFrame& keyframe, const KeyFrame& p
 }
 
 }  // namespace
+
+void FinalAdjustmentOptions::Check() const {
+  if (!(depth_noise.factor > 0.0 && std::isfinite(depth_noise.factor))) {
+    throw core::InputError::ForParameter("Depth.noiseFactor", fmt::format("must be > 0, got {}", depth_noise.factor));
+  }
+  if (huber_iterations < 1 || iterations < 0) {
+    throw core::InputError::ForParameter(
+        "FinalAdjustment.iterations",
+        fmt::format("must be >= 1 with the Huber kernel and >= 0 without, got {} and {}", huber_iterations, iterations));
+  }
+}
 
 void LoopClosingOptions::Check() const {
   const auto at_least = [](const char* name, int value, int minimum) {
@@ -227,11 +239,25 @@ std::unique_lock<std::shared_mutex> LoopCloser::LockStillMap() {
 
 void LoopCloser::StartGlobalBundleAdjustment(MapId map) {
   abort_global_ = false;
+  BundleAdjustmentOptions adjustment;
+  adjustment.first_iterations = options_.global_iterations;
+  adjustment.second_iterations = 0;  // its outliers are left in the map: local mapping judges them
+  adjustment.sparse = true;
   if (threaded_) {
-    global_thread_ = std::jthread([this, map] { RunGlobalBundleAdjustment(map); });
+    global_thread_ = std::jthread([this, map, adjustment] { RunGlobalBundleAdjustment(map, adjustment); });
   } else {
-    RunGlobalBundleAdjustment(map);
+    RunGlobalBundleAdjustment(map, adjustment);
   }
+}
+
+void LoopCloser::AdjustFinally(MapId map, const FinalAdjustmentOptions& options) {
+  StopGlobalBundleAdjustment();
+  abort_global_ = false;
+  BundleAdjustmentOptions adjustment;
+  adjustment.first_iterations = options.huber_iterations;
+  adjustment.second_iterations = options.iterations;
+  adjustment.sparse = true;
+  RunGlobalBundleAdjustment(map, adjustment, &options.depth_noise);
 }
 
 void LoopCloser::StopGlobalBundleAdjustment() {
@@ -240,7 +266,8 @@ void LoopCloser::StopGlobalBundleAdjustment() {
   global_thread_.join();
 }
 
-void LoopCloser::RunGlobalBundleAdjustment(MapId map) {
+void LoopCloser::RunGlobalBundleAdjustment(MapId map, const BundleAdjustmentOptions& adjustment,
+                                           const core::DepthNoiseModel* depth_noise) {
   BundleAdjustmentProblem problem;
   std::vector<KeyFrame*> keyframes;
   std::vector<MapPoint*> points;
@@ -256,6 +283,9 @@ void LoopCloser::RunGlobalBundleAdjustment(MapId map) {
       problem.pose_fixed.push_back(map_.IsOrigin(k) ? 1 : 0);
     }
     for (MapPoint* p : map_.MapPoints(map)) {
+      // A point one keyframe sees tells the adjustment nothing (it moves with that keyframe, below), and leaving
+      // it out keeps the problem small.
+      if (p->observations().size() < 2) continue;
       const int index = static_cast<int>(points.size());
       for (const MapPoint::Observation& o : p->observations()) {
         const auto k = keyframe_index.find(o.keyframe);
@@ -267,10 +297,13 @@ void LoopCloser::RunGlobalBundleAdjustment(MapId map) {
       problem.points_w.push_back(p->position());
     }
   }
-  BundleAdjustmentOptions adjustment;
-  adjustment.first_iterations = options_.global_iterations;
-  adjustment.second_iterations = 0;  // its outliers are left in the map: local mapping judges them
-  adjustment.sparse = true;
+  if (depth_noise != nullptr) {
+    for (BundleAdjustmentProblem::Observation& o : problem.observations) {
+      KeypointMeasurement& m = o.measurement;
+      const double depth = problem.camera.bf / (m.uv.x() - m.ur);  // ur = u − bf / z
+      if (m.has_depth) m.disparity_information = depth_noise->DisparityInformation(problem.camera.bf, depth);
+    }
+  }
   if (RunBundleAdjustment(problem, adjustment, &abort_global_).aborted) return;
 
   const LocalMapper::PauseGuard pause = local_mapper_.Pause();
@@ -286,7 +319,7 @@ void LoopCloser::RunGlobalBundleAdjustment(MapId map) {
       moved.emplace(k, std::pair(k->T_cw(), k->T_cw() * parent_before.inverse() * parent_after));
     }
   }
-  // Points take their adjusted positions; points made since move with their reference keyframe.
+  // Points take their adjusted positions; points left out, or made since, move with their reference keyframe.
   std::unordered_map<const MapPoint*, std::size_t> point_index;
   for (std::size_t i = 0; i < points.size(); ++i) point_index.emplace(points[i], i);
   for (MapPoint* p : map_.MapPoints(map)) {

@@ -82,6 +82,19 @@ struct LoopClosingOptions {
   void Check() const;
 };
 
+// The adjustment of each map once tracking is over (System::Finish): a global bundle adjustment run to the end, with
+// each depth weighed by a noise model of the sensor rather than as one pixel of virtual disparity, so that the
+// several keyframes that see a point average its depth. It runs only at the end: during the run tracking leans on
+// the map, and a map adjusted this way as it grows tracked worse on some paths (docs/slam.md, map adjustment).
+struct FinalAdjustmentOptions {
+  bool enabled = true;  // (--no-final-adjustment: off)
+  core::DepthNoiseModel depth_noise;  // Depth.noiseFactor
+  int huber_iterations = 10;          // with a Huber kernel, every observation
+  int iterations = 10;                // then without, the first pass's outliers left out (and left in the map)
+
+  void Check() const;
+};
+
 // A loop closed: the keyframe that recognised the place, the keyframe it recognised, and where the verification put
 // the first relative to the second.
 struct LoopClosure {
@@ -125,6 +138,8 @@ class LoopCloser {
   Timings timings() const;
   // Global bundle adjustments completed (not stopped early). Thread-safe.
   int global_adjustments() const { return global_adjustments_.load(); }
+  // The final adjustment of `map` (FinalAdjustmentOptions), in the calling thread. Call once Stop() has returned.
+  void AdjustFinally(MapId map, const FinalAdjustmentOptions& options);
 
  private:
   // A keyframe's view of one place the database returned, with how many keyframes in a row saw it.
@@ -164,7 +179,9 @@ class LoopCloser {
   // The global bundle adjustment of one map: in its own thread when the closer runs in one, else in the caller's.
   void StartGlobalBundleAdjustment(MapId map);
   void StopGlobalBundleAdjustment();  // stops it early and waits for it
-  void RunGlobalBundleAdjustment(MapId map);
+  // With `depth_noise`, each depth is weighed by it (the final adjustment); without, as one pixel of ur.
+  void RunGlobalBundleAdjustment(MapId map, const BundleAdjustmentOptions& adjustment,
+                                 const core::DepthNoiseModel* depth_noise = nullptr);
   void Loop(std::stop_token stop);
 
   Map& map_;

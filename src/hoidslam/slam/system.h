@@ -37,6 +37,7 @@ struct SystemOptions {
   TrackerOptions tracking;
   LocalMapperOptions mapping;
   LoopClosingOptions loop_closing;
+  FinalAdjustmentOptions final_adjustment;  // of every map, by Finish (not with `localization`)
   // Local mapping in step with tracking (no thread) and single-threaded bundle adjustment: the same input gives
   // a byte-identical trajectory on every run.
   bool deterministic = false;
@@ -94,9 +95,11 @@ class System {
   // size or the images do not match the camera size.
   TrackResult Track(const core::RgbdFrame& frame, const ExtractedFeatures& features, std::span<const std::uint8_t> keep);
 
-  // Lets local mapping and loop closing finish their queues and stops them; the outputs below then show the final
-  // map.
+  // Lets local mapping and loop closing finish their queues and stops them, then adjusts every map once more
+  // (FinalAdjustmentOptions); the outputs below then show the final map.
   void Finish();
+  // How long Finish's final adjustment took, ms (0 when there was none).
+  double FinalAdjustmentMilliseconds() const { return final_adjustment_ms_; }
   // Writes the main map to a map file (map_file.h; after Finish, the final map). Throws core::InputError naming the
   // file when it cannot be written.
   void SaveMap(const std::filesystem::path& path) const;
@@ -128,6 +131,7 @@ class System {
   LocalMapper local_mapper_;
   LoopCloser loop_closer_;
   Tracker tracker_;
+  double final_adjustment_ms_ = 0.0;
   std::uint64_t next_frame_id_ = 0;
   cv::Mat gray_;
 };

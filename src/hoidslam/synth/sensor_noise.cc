@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
 
+#include "hoidslam/core/camera.h"
 #include "hoidslam/core/error.h"
 #include "hoidslam/synth/option_checks.h"
 #include "hoidslam/synth/random.h"
@@ -51,8 +52,6 @@ void SensorNoiseOptions::Check() const {
   CheckInRange(edge_erosion_probability, 0.0, 1.0, "noise.edge_erosion_probability");
   CheckInRange(dropout_probability, 0.0, 1.0, "noise.dropout_probability");
 }
-
-double KinectDepthSigma(double z) { return 0.0012 + 0.0019 * (z - 0.4) * (z - 0.4); }
 
 cv::Mat ApplyRgbNoise(const cv::Mat& bgr, const SensorNoiseOptions& options, std::uint64_t seed) {
   options.Check();
@@ -122,7 +121,7 @@ cv::Mat ApplyDepthNoise(const cv::Mat& depth, const SensorNoiseOptions& options,
       if (options.dropout_probability > 0.0 && rng.Bernoulli(options.dropout_probability)) continue;
       const double truth = z[x];
       double measured =
-          truth + options.depth_noise_scale * KinectDepthSigma(truth) * (ByteSum(bits, 0, 8) - 8 * 127.5) * unit;
+          truth + options.depth_noise_scale * core::KinectDepthSigma(truth) * (ByteSum(bits, 0, 8) - 8 * 127.5) * unit;
       if (options.disparity_step > 0.0 && measured > 0.0) {
         const double disparity = std::round(1.0 / measured / options.disparity_step) * options.disparity_step;
         measured = disparity > 0.0 ? 1.0 / disparity : 0.0;

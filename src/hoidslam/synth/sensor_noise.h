@@ -16,7 +16,7 @@ struct SensorNoiseOptions {
   double rgb_noise_sigma = 2.5;  // grey levels, >= 0: std of the per-pixel, per-channel noise before the blur
   double rgb_blur_sigma = 0.8;   // pixels, >= 0: sigma of the 3x3 Gaussian blur; 0 = no blur
 
-  // Depth, after Nguyen, Izadi & Lovell (2012): sigma_z(z) = depth_noise_scale * (0.0012 + 0.0019 (z - 0.4)^2).
+  // Depth, after Nguyen, Izadi & Lovell (2012): sigma_z(z) = depth_noise_scale * core::KinectDepthSigma(z).
   double depth_noise_scale = 1.0;     // >= 0: 0 = no depth noise, 1 = the published model
   double depth_factor = 5000.0;       // PNG units per metre, > 0 (TUM: 5000); also the quantisation step
   double disparity_step = 0.0;        // 1/m, >= 0: quantise 1/z in steps of this size (Kinect-like: 2.85e-3);
@@ -30,9 +30,6 @@ struct SensorNoiseOptions {
   // Throws InputError naming the parameter ("noise.rgb_noise_sigma", ...).
   void Check() const;
 };
-
-// The depth noise model: standard deviation (metres) of a measurement at true depth z (metres), unscaled.
-double KinectDepthSigma(double z);
 
 // Colour as the sensor delivers it: `bgr` (CV_8UC3) plus noise, then blurred. Returns a new image.
 cv::Mat ApplyRgbNoise(const cv::Mat& bgr, const SensorNoiseOptions& options, std::uint64_t seed);

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
 
+#include "hoidslam/core/camera.h"
 #include "hoidslam/core/error.h"
 
 namespace hoidslam::synth {
@@ -53,11 +54,11 @@ TEST(SensorNoise, DepthNoiseFollowsTheKinectModel) {
     ASSERT_EQ(measured.type(), CV_16U);
     EXPECT_EQ(cv::countNonZero(measured), measured.rows * measured.cols) << "a flat plane has no holes";
     const Stats stats = DepthErrorStats(measured, z, options.depth_factor);
-    const double sigma = KinectDepthSigma(z);
+    const double sigma = core::KinectDepthSigma(z);
     EXPECT_NEAR(stats.mean, 0.0, 5.0 * sigma / 200.0 + 0.5 / options.depth_factor) << "at " << z << " m";
     EXPECT_NEAR(stats.std, sigma, 0.05 * sigma) << "at " << z << " m";
   }
-  EXPECT_NEAR(KinectDepthSigma(1.0), 0.0012 + 0.0019 * 0.36, 1e-12);
+  EXPECT_NEAR(core::KinectDepthSigma(1.0), 0.0012 + 0.0019 * 0.36, 1e-12);
 }
 
 TEST(SensorNoise, NoiseScaleZeroGivesTheQuantisedTruth) {

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "hoidslam/core/camera.h"
 #include "hoidslam/core/error.h"
 #include "hoidslam/io/detections_file.h"
 #include "hoidslam/io/rgbd_sequence.h"
@@ -259,7 +260,7 @@ TEST(SequenceWriter, PosesReprojectStaticPointsAndDepthAgreesWithTheGeometry) {
         const float measured = noisy.at<float>(v, u);
         if (measured <= 0.0F) continue;
         ++compared;
-        within += std::abs(measured - z) <= 4.0 * KinectDepthSigma(z) + 2.0 / 5000.0 ? 1 : 0;
+        within += std::abs(measured - z) <= 4.0 * core::KinectDepthSigma(z) + 2.0 / 5000.0 ? 1 : 0;
       }
     }
     EXPECT_GT(floor_pixels, 100);

@@ -26,11 +26,14 @@ struct RgbdCamera {
 
 // One keypoint observation: undistorted pixel (u, v); for a keypoint with valid depth the virtual right
 // coordinate ur (>= 0 is not required: ur is only meaningful when has_depth); inv_sigma2 = 1 / scale[level]^2.
+// disparity_information > 0 has bundle adjustment weigh the depth as the disparity u − ur alone, with this
+// information (1 / σ², from core::DepthNoiseModel), instead of as the pixel ur.
 struct KeypointMeasurement {
   Eigen::Vector2d uv = Eigen::Vector2d::Zero();
   double ur = 0.0;
   bool has_depth = false;
   double inv_sigma2 = 1.0;
+  double disparity_information = 0.0;
 };
 
 // χ² thresholds at 95 % (ORB-SLAM's): 2 degrees of freedom for (u, v), 3 for (u, v, ur).

@@ -72,13 +72,15 @@ class PoseManifold final : public ceres::Manifold {
   }
 };
 
-// The reprojection error (u, v) or, with depth, (u, v, ur) of one observation, weighted by sqrt(inv_sigma2),
-// with analytic Jacobians (autodiff would cost most of the speed budget).
+// The reprojection error (u, v) of one observation, weighted by sqrt(inv_sigma2), and with depth a third residual:
+// ORB-SLAM's ur, weighted as u and v, or, when the measurement has a disparity_information, the disparity bf / z
+// alone, weighted by its square root. Analytic Jacobians (autodiff would cost most of the speed budget).
 template <int kResiduals>
 class ReprojectionCost final : public ceres::SizedCostFunction<kResiduals, kPoseSize, 3> {
  public:
   ReprojectionCost(const RgbdCamera& camera, const KeypointMeasurement& m)
-      : camera_(camera), m_(m), scale_(std::sqrt(m.inv_sigma2)) {}
+      : camera_(camera), m_(m), scale_(std::sqrt(m.inv_sigma2)),
+        disparity_scale_(std::sqrt(m.disparity_information)) {}
 
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
     const Eigen::Map<const Eigen::Quaterniond> q(parameters[0]);
@@ -92,7 +94,10 @@ class ReprojectionCost final : public ceres::SizedCostFunction<kResiduals, kPose
     const double u = camera_.fx * p.x() * iz + camera_.cx;
     residuals[0] = scale_ * (u - m_.uv.x());
     residuals[1] = scale_ * (camera_.fy * p.y() * iz + camera_.cy - m_.uv.y());
-    if constexpr (kResiduals == 3) residuals[2] = scale_ * (u - camera_.bf * iz - m_.ur);
+    if constexpr (kResiduals == 3) {
+      residuals[2] = disparity_scale_ > 0.0 ? disparity_scale_ * (camera_.bf * iz - (m_.uv.x() - m_.ur))
+                                            : scale_ * (u - camera_.bf * iz - m_.ur);
+    }
     if (jacobians == nullptr) return true;
 
     // Rows: gradients of the weighted residuals with respect to p_c.
@@ -102,6 +107,9 @@ class ReprojectionCost final : public ceres::SizedCostFunction<kResiduals, kPose
     G.row(1) << 0.0, camera_.fy * iz, -camera_.fy * p.y() * iz2;
     if constexpr (kResiduals == 3) G.row(2) << G(0, 0), 0.0, G(0, 2) + camera_.bf * iz2;
     G *= scale_;
+    if constexpr (kResiduals == 3) {
+      if (disparity_scale_ > 0.0) G.row(2) << 0.0, 0.0, -disparity_scale_ * camera_.bf * iz2;
+    }
 
     if (jacobians[0] != nullptr) {
       // d p_c / dω = -[R p_w]x, so a row g gives (R p_w) × g; d p_c / dυ = I.
@@ -124,6 +132,7 @@ class ReprojectionCost final : public ceres::SizedCostFunction<kResiduals, kPose
   const RgbdCamera& camera_;
   KeypointMeasurement m_;
   double scale_;
+  double disparity_scale_;
 };
 
 // Ends a Ceres solve as soon as *stop becomes true.
@@ -173,11 +182,16 @@ bool IsOutlier(const BundleAdjustmentProblem& problem, const BundleAdjustmentOpt
   const KeypointMeasurement& m = o.measurement;
   const Eigen::Vector2d uv = problem.camera.Project(p);
   double chi2 = (uv - m.uv).squaredNorm();
-  if (m.has_depth) {
+  if (m.has_depth && m.disparity_information == 0.0) {
     const double dur = uv.x() - problem.camera.bf / p.z() - m.ur;
     chi2 += dur * dur;
   }
-  return chi2 * m.inv_sigma2 > (m.has_depth ? options.chi2_stereo : options.chi2_mono);
+  chi2 *= m.inv_sigma2;
+  if (m.has_depth && m.disparity_information > 0.0) {
+    const double dd = problem.camera.bf / p.z() - (m.uv.x() - m.ur);
+    chi2 += dd * dd * m.disparity_information;
+  }
+  return chi2 > (m.has_depth ? options.chi2_stereo : options.chi2_mono);
 }
 
 }  // namespace

@@ -237,6 +237,92 @@ TEST(BundleAdjustment, IsDeterministic) {
   EXPECT_TRUE(a.points_w == b.points_w);
 }
 
+// Gives every observation with depth the disparity information of the Kinect model times `factor`, at its true
+// depth (call before Perturb).
+void WeighDepthBySensorNoise(Scene& s, double factor) {
+  const core::DepthNoiseModel model{.factor = factor};
+  for (BundleAdjustmentProblem::Observation& o : s.problem.observations) {
+    if (!o.measurement.has_depth) continue;
+    const double z = (s.T_cw_true[static_cast<std::size_t>(o.keyframe)] *
+                      s.points_true[static_cast<std::size_t>(o.point)]).z();
+    o.measurement.disparity_information = model.DisparityInformation(s.problem.camera.bf, z);
+  }
+}
+
+TEST(BundleAdjustment, ConvergesWithDepthWeighedBySensorNoise) {
+  Scene s = MakeScene(3, 4, 400, 4, 0.7, 21);
+  WeighDepthBySensorNoise(s, 2.0);
+  Perturb(s.problem, 31);
+  ASSERT_GT(Measure(s).point, 0.03);
+  const BundleAdjustmentResult result = RunBundleAdjustment(s.problem);
+  const Errors after = Measure(s);
+  EXPECT_LT(after.rotation_deg, 0.01);
+  EXPECT_LT(after.centre, 1e-3);
+  EXPECT_LT(after.point, 1e-3);
+  EXPECT_EQ(std::count(result.outlier.begin(), result.outlier.end(), 1), 0);
+}
+
+// Two fixed keyframes 5 cm apart see points 2 m away, with 0.3 px of keypoint noise and depth as noisy as the
+// Kinect model says (6 mm there). Triangulation over 5 cm leaves some 4 cm of depth error, so the depths decide:
+// weighed by the model they are trusted, weighed as one pixel of ur (some 10 cm at 2 m) they are not.
+double MeanDepthErrorOfNoisyPoints(bool weigh_by_sensor_noise) {
+  const core::DepthNoiseModel truth{.factor = 1.0};
+  std::mt19937 rng(41);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  BundleAdjustmentProblem p;
+  for (const double x : {0.0, 0.05}) {
+    core::Pose T_cw = core::Pose::Identity();
+    T_cw.translation() = Eigen::Vector3d(-x, 0.0, 0.0);
+    p.T_cw.push_back(T_cw);
+    p.pose_fixed.push_back(1);
+  }
+  std::vector<Eigen::Vector3d> points_true;
+  for (int i = 0; i < 200; ++i) {
+    const double px = unit(rng);
+    const double py = unit(rng);
+    const double pz = 2.0 + 0.1 * unit(rng);
+    points_true.emplace_back(px, 0.7 * py, pz);
+    for (int k = 0; k < 2; ++k) {
+      const Eigen::Vector3d p_c = p.T_cw[static_cast<std::size_t>(k)] * points_true.back();
+      KeypointMeasurement m;
+      const double du = normal(rng);
+      const double dv = normal(rng);
+      const double dz = normal(rng);
+      m.uv = p.camera.Project(p_c) + 0.3 * Eigen::Vector2d(du, dv);
+      m.has_depth = true;
+      const double z = p_c.z() + truth.Sigma(p_c.z()) * dz;
+      m.ur = m.uv.x() - p.camera.bf / z;
+      if (weigh_by_sensor_noise) m.disparity_information = truth.DisparityInformation(p.camera.bf, z);
+      p.observations.push_back({.keyframe = k, .point = i, .measurement = m});
+    }
+    p.points_w.push_back(points_true.back() + Eigen::Vector3d(0.0, 0.0, 0.05));
+  }
+  RunBundleAdjustment(p);
+  double error = 0.0;
+  for (std::size_t i = 0; i < points_true.size(); ++i) error += std::abs(p.points_w[i].z() - points_true[i].z());
+  return error / static_cast<double>(points_true.size());
+}
+
+TEST(BundleAdjustment, TrustsDepthAsMuchAsTheSensorNoiseModelSays) {
+  const double by_sensor_noise = MeanDepthErrorOfNoisyPoints(true);
+  const double as_one_pixel = MeanDepthErrorOfNoisyPoints(false);
+  EXPECT_LT(by_sensor_noise, 0.006);
+  EXPECT_LT(by_sensor_noise, 0.5 * as_one_pixel);
+}
+
+TEST(BundleAdjustment, FlagsADepthTheSensorNoiseModelRulesOut) {
+  Scene s = MakeScene(3, 4, 300, 4, 1.0, 22);
+  WeighDepthBySensorNoise(s, 2.0);
+  // 15 % too deep is 7–25 σ of the doubled model at the scene's 2–6 m.
+  KeypointMeasurement& m = s.problem.observations[10].measurement;
+  const double z = s.problem.camera.bf / (m.uv.x() - m.ur);
+  m.ur = m.uv.x() - s.problem.camera.bf / (1.15 * z);
+  const BundleAdjustmentResult result = RunBundleAdjustment(s.problem);
+  EXPECT_EQ(result.outlier[10], 1);
+  EXPECT_EQ(std::count(result.outlier.begin(), result.outlier.end(), 1), 1);
+}
+
 TEST(BundleAdjustment, StopsAtOnceWhenAskedTo) {
   Scene s = MakeScene(3, 4, 300, 4, 0.7, 8);
   Perturb(s.problem, 18);
