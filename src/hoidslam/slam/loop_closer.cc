@@ -89,7 +89,8 @@ void FinalAdjustmentOptions::Check() const {
   if (huber_iterations < 1 || iterations < 0) {
     throw core::InputError::ForParameter(
         "FinalAdjustment.iterations",
-        fmt::format("must be >= 1 with the Huber kernel and >= 0 without, got {} and {}", huber_iterations, iterations));
+        fmt::format("must be >= 1 with the Huber kernel and >= 0 after it, got {} and {}", huber_iterations,
+                    iterations));
   }
 }
 
@@ -300,8 +301,9 @@ void LoopCloser::RunGlobalBundleAdjustment(MapId map, const BundleAdjustmentOpti
   if (depth_noise != nullptr) {
     for (BundleAdjustmentProblem::Observation& o : problem.observations) {
       KeypointMeasurement& m = o.measurement;
+      if (!m.has_depth) continue;
       const double depth = problem.camera.bf / (m.uv.x() - m.ur);  // ur = u − bf / z
-      if (m.has_depth) m.disparity_information = depth_noise->DisparityInformation(problem.camera.bf, depth);
+      m.disparity_information = depth_noise->DisparityInformation(problem.camera.bf, depth);
     }
   }
   if (RunBundleAdjustment(problem, adjustment, &abort_global_).aborted) return;

@@ -82,10 +82,10 @@ struct LoopClosingOptions {
   void Check() const;
 };
 
-// The adjustment of each map once tracking is over (System::Finish): a global bundle adjustment run to the end, with
-// each depth weighed by a noise model of the sensor rather than as one pixel of virtual disparity, so that the
-// several keyframes that see a point average its depth. It runs only at the end: during the run tracking leans on
-// the map, and a map adjusted this way as it grows tracked worse on some paths (docs/slam.md, map adjustment).
+// The adjustment of each map once tracking is over (System::Finish): a global bundle adjustment with each depth
+// weighed by a noise model of the sensor rather than as one pixel of virtual disparity, so that the several
+// keyframes that see a point average its depth. It runs only at the end: during the run tracking leans on the map,
+// and a map adjusted this way as it grew tracked worse on some paths (docs/slam.md, "The final adjustment").
 struct FinalAdjustmentOptions {
   bool enabled = true;  // (--no-final-adjustment: off)
   core::DepthNoiseModel depth_noise;  // Depth.noiseFactor
