@@ -85,9 +85,10 @@ struct LoopClosingOptions {
 // The adjustment of each map once tracking is over (System::Finish): a global bundle adjustment with each depth
 // weighed by a noise model of the sensor rather than as one pixel of virtual disparity, so that the several
 // keyframes that see a point average its depth. It runs only at the end: during the run tracking leans on the map,
-// and a map adjusted this way as it grew tracked worse on some paths (docs/slam.md, "The final adjustment").
+// and a map adjusted this way as it grew tracked worse on some paths (docs/slam.md, "The final adjustment"). `run`
+// turns it on for a map it saves: it helps maps of long, varied paths most and costs short walks up to half a mm.
 struct FinalAdjustmentOptions {
-  bool enabled = true;  // (--no-final-adjustment: off)
+  bool enabled = false;  // (run: on with --save-map, unless --no-final-adjustment)
   core::DepthNoiseModel depth_noise;  // Depth.noiseFactor
   int huber_iterations = 10;          // with a Huber kernel, every observation
   int iterations = 10;                // then without, the first pass's outliers left out (and left in the map)

@@ -37,7 +37,7 @@ struct SystemOptions {
   TrackerOptions tracking;
   LocalMapperOptions mapping;
   LoopClosingOptions loop_closing;
-  FinalAdjustmentOptions final_adjustment;  // of every map, by Finish (not with `localization`)
+  FinalAdjustmentOptions final_adjustment;  // of every map, by Finish (never with `localization`)
   // Local mapping in step with tracking (no thread) and single-threaded bundle adjustment: the same input gives
   // a byte-identical trajectory on every run.
   bool deterministic = false;
