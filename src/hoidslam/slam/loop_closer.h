@@ -86,7 +86,7 @@ struct LoopClosingOptions {
 // weighed by a noise model of the sensor rather than as one pixel of virtual disparity, so that the several
 // keyframes that see a point average its depth. It runs only at the end: during the run tracking leans on the map,
 // and a map adjusted this way as it grew tracked worse on some paths (docs/slam.md, "The final adjustment"). `run`
-// turns it on for a map it saves: it helps maps of long, varied paths most and costs short walks up to half a mm.
+// turns it on for a map it saves: it helps maps of long, varied paths most and costs some short walks up to 0.9 mm.
 struct FinalAdjustmentOptions {
   bool enabled = false;  // (run: on with --save-map, unless --no-final-adjustment)
   core::DepthNoiseModel depth_noise;  // Depth.noiseFactor
