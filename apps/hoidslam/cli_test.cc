@@ -214,6 +214,48 @@ TEST(Cli, SynthHelpAndListNameTheShippedScenarios) {
   }
 }
 
+TEST(Cli, SynthRandomRendersASeedAndItsScenarioFileRendersItAgain) {
+  const testing::TempDir scratch;
+  const std::vector<std::string> quick = {"--frame-step", "150", "--threads", "1"};  // 3 frames of 10 s
+  std::vector<std::string> random = {"synth", "--random", "3", "--random-duration", "10", "--out",
+                                     (scratch / "a" / "seq").string()};
+  random.insert(random.end(), quick.begin(), quick.end());
+  fs::create_directories(scratch / "a");
+  const RunResult first = RunHoidslam(scratch, random);
+  ASSERT_EQ(first.exit_status, 0) << first.err;
+  EXPECT_THAT(first.out, HasSubstr("3 frames of 'random-3'"));
+  std::vector<std::string> again = {"synth", "--scenario", (scratch / "a" / "seq" / "scenario.json").string(), "--out",
+                                    (scratch / "b" / "seq").string()};
+  again.insert(again.end(), quick.begin(), quick.end());
+  fs::create_directories(scratch / "b");
+  const RunResult second = RunHoidslam(scratch, again);
+  ASSERT_EQ(second.exit_status, 0) << second.err;
+  for (const char* file : {"groundtruth.txt", "rgb.txt", "detections.jsonl", "events.jsonl", "scenario.json"}) {
+    EXPECT_EQ(ReadText(scratch / "a" / "seq" / file), ReadText(scratch / "b" / "seq" / file)) << file;
+  }
+  // --print-scenario shows the document that was rendered.
+  const RunResult printed =
+      RunHoidslam(scratch, {"synth", "--random", "3", "--random-duration", "10", "--print-scenario"});
+  ASSERT_EQ(printed.exit_status, 0) << printed.err;
+  const nlohmann::json document = nlohmann::json::parse(printed.out);
+  const nlohmann::json rendered = nlohmann::json::parse(ReadText(scratch / "a" / "seq" / "scenario.json"));
+  EXPECT_EQ(document.at("name"), "random-3");
+  for (const char* key : {"camera", "office", "people", "description"}) EXPECT_EQ(document.at(key), rendered.at(key));
+}
+
+TEST(Cli, SynthRandomOptionsThatContradictEachOtherAreErrors) {
+  const testing::TempDir scratch;
+  ExpectOneErrorLine(RunHoidslam(scratch, {"synth", "--random", "3", "--random-duration", "5", "--out", "seq"}),
+                     "parameter --random-duration");
+  ExpectOneErrorLine(RunHoidslam(scratch, {"synth", "--random", "3", "--print-scenario", "loop"}),
+                     "parameter --print-scenario");
+  const RunResult both = RunHoidslam(scratch, {"synth", "--random", "3", "--scenario", "loop", "--out", "seq"});
+  EXPECT_NE(both.exit_status, 0);
+  EXPECT_THAT(both.err, HasSubstr("--random"));
+  EXPECT_NE(RunHoidslam(scratch, {"synth", "--random", "-1", "--out", "seq"}).exit_status, 0);
+  EXPECT_FALSE(fs::exists(scratch / "seq"));
+}
+
 TEST(Cli, SynthSequenceIsReadByEval) {
   const testing::TempDir scratch;
   const fs::path sequence = scratch / "carry";

@@ -14,6 +14,7 @@
 #include "hoidslam/core/error.h"
 #include "hoidslam/core/interrupt.h"
 #include "hoidslam/synth/preview.h"
+#include "hoidslam/synth/random_scenario.h"
 #include "hoidslam/synth/scenario.h"
 #include "hoidslam/synth/sequence_writer.h"
 
@@ -22,7 +23,10 @@ namespace {
 
 struct SynthArgs {
   std::string scenario;
+  std::optional<std::uint64_t> random;  // --random SEED: a random scenario instead of --scenario
+  synth::RandomScenarioOptions random_options;
   std::string print_scenario;
+  CLI::Option* print_option = nullptr;  // given with a name, or bare with --random
   bool list_scenarios = false;
   std::string data_dir;
   std::optional<std::uint64_t> seed;
@@ -48,24 +52,38 @@ void RunSynth(SynthArgs& args) {
     for (const std::string& name : synth::BuiltinScenarioNames()) fmt::print("{}\n", name);
     return;
   }
-  if (!args.print_scenario.empty()) {
+  if (args.print_option->count() > 0) {
+    if (args.random) {
+      if (!args.print_scenario.empty()) {
+        throw core::InputError::ForParameter("--print-scenario",
+                                             "give a shipped scenario's name or --random, not both");
+      }
+      fmt::print("{}\n", synth::RandomScenarioDocument(*args.random, args.random_options).dump(2));
+      return;
+    }
     const auto text = synth::BuiltinScenarioText(args.print_scenario);
     if (!text) {
       throw core::InputError::ForParameter(
-          "--print-scenario", fmt::format("no shipped scenario '{}' (see --list-scenarios)", args.print_scenario));
+          "--print-scenario",
+          args.print_scenario.empty()
+              ? std::string("name a shipped scenario (see --list-scenarios), or give --random SEED")
+              : fmt::format("no shipped scenario '{}' (see --list-scenarios)", args.print_scenario));
     }
     fmt::print("{}", *text);
     return;
   }
   if (args.options.out.empty()) throw core::InputError::ForParameter("--out", "required");
-  if (args.scenario.empty()) {
-    if (args.preview.empty()) throw core::InputError::ForParameter("--scenario", "required (see --list-scenarios)");
+  if (args.scenario.empty() && !args.random) {
+    if (args.preview.empty()) {
+      throw core::InputError::ForParameter("--scenario", "required (see --list-scenarios), or --random SEED");
+    }
     // Only a preview of the sequence already in --out.
     synth::WritePreviewPng(args.preview, synth::SequencePreview(args.options.out, args.preview_options));
     return;
   }
 
-  synth::Scenario scenario = synth::LoadScenario(args.scenario);
+  synth::Scenario scenario = args.random ? synth::RandomScenario(*args.random, args.random_options)
+                                         : synth::LoadScenario(args.scenario);
   if (args.seed) scenario.seed = *args.seed;
   if (args.frames) scenario.max_frames = *args.frames;
   synth::DetectorNoiseOptions& noise = scenario.detector_noise;
@@ -104,6 +122,17 @@ void AddSynthCommand(CLI::App& app) {
   command->add_option("--scenario", args->scenario,
                       fmt::format("A shipped scenario ({}) or a .json file",
                                   fmt::join(synth::BuiltinScenarioNames(), ", ")));
+  CLI::Option* random =
+      command->add_option("--random", args->random,
+                          "Render the random scenario of this seed instead of --scenario: a random office, camera path "
+                          "and people, the same for the same seed (named random-<seed>)")
+          ->check(CLI::NonNegativeNumber);
+  command->get_option("--scenario")->excludes(random);
+  command
+      ->add_option("--random-duration", args->random_options.duration,
+                   "Seconds of camera path of a --random scenario")
+      ->capture_default_str()
+      ->needs(random);
   command->add_option("--out", options.out, "Output sequence folder (created complete or not at all)");
   command->add_option("--seed", args->seed, "Override the scenario's seed (sensor and detector noise)");
   command->add_option("--frames", args->frames, "Render only the first N frames (0 = all)");
@@ -131,10 +160,14 @@ void AddSynthCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_flag("--force", options.force, "Replace the output folder when it exists and is not empty");
   command->add_flag("--list-scenarios", args->list_scenarios, "List the shipped scenarios and exit");
-  command->add_option("--print-scenario", args->print_scenario, "Print a shipped scenario's JSON (to copy and edit)");
+  args->print_option = command
+                           ->add_option("--print-scenario", args->print_scenario,
+                                        "Print a shipped scenario's JSON (to copy and edit); with --random and no "
+                                        "name, the random scenario's")
+                           ->expected(0, 1);
   command->add_option("--preview", args->preview,
-                      "Also draw a PNG of a few frames (colour, depth, boxes, moving mask); without --scenario, "
-                      "draw it for the sequence already in --out");
+                      "Also draw a PNG of a few frames (colour, depth, boxes, moving mask); without --scenario or "
+                      "--random, draw it for the sequence already in --out");
   command
       ->add_option("--preview-frames", args->preview_options.frames,
                    "Frame indices for --preview (default: 3 spread over the sequence)")

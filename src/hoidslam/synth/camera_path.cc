@@ -21,12 +21,13 @@
 namespace hoidslam::synth {
 namespace {
 
-constexpr core::EnumNames<ProceduralMotion, 5> kMotionNames = {{
+constexpr core::EnumNames<ProceduralMotion, 6> kMotionNames = {{
     {ProceduralMotion::kStatic, "static"},
     {ProceduralMotion::kXyz, "xyz"},
     {ProceduralMotion::kHalfsphere, "halfsphere"},
     {ProceduralMotion::kRpy, "rpy"},
     {ProceduralMotion::kCircle, "circle"},
+    {ProceduralMotion::kWaypoints, "waypoints"},
 }};
 
 double Radians(double degrees) { return degrees * std::numbers::pi / 180.0; }
@@ -157,6 +158,8 @@ core::Pose RelativeMotion(const ProceduralPathOptions& o, double phase) {
       motion.translation() = pivot - rotation * pivot;
       break;
     }
+    case ProceduralMotion::kWaypoints:  // placed in the room by its waypoints, not relative to an anchor
+      break;
     case ProceduralMotion::kCircle: {
       // Turn about the vertical through the centre, `radius` behind the first pose on the level.
       const Eigen::Vector3d up = o.T_anchor.linear().transpose() * Eigen::Vector3d::UnitZ();
@@ -170,6 +173,37 @@ core::Pose RelativeMotion(const ProceduralPathOptions& o, double phase) {
   return motion;
 }
 
+// The waypoint path's own checks (ProceduralPathOptions::Check).
+void CheckWaypoints(const std::vector<CameraWaypoint>& waypoints, double fps, std::size_t frames) {
+  if (waypoints.size() < 2) {
+    throw core::InputError::ForParameter("camera.waypoints",
+                                         fmt::format("needs at least two waypoints, got {}", waypoints.size()));
+  }
+  for (std::size_t i = 0; i < waypoints.size(); ++i) {
+    const CameraWaypoint& w = waypoints[i];
+    const auto key = [i](const char* name) { return fmt::format("camera.waypoints[{}].{}", i, name); };
+    if (i == 0 && w.time != 0.0) {
+      throw core::InputError::ForParameter(key("time"), fmt::format("must be 0 (the path starts at its first "
+                                                                    "waypoint), got {}", w.time));
+    }
+    if (i > 0 && !(w.time > waypoints[i - 1].time && std::isfinite(w.time))) {
+      throw core::InputError::ForParameter(
+          key("time"), fmt::format("must be after waypoints[{}].time ({} s), got {}", i - 1, waypoints[i - 1].time,
+                                   w.time));
+    }
+    if (!w.position.allFinite()) throw core::InputError::ForParameter(key("position"), "must be finite");
+    CheckInRange(w.yaw_deg, -360.0, 360.0, key("yaw_deg"));
+    CheckInRange(w.pitch_deg, -89.0, 89.0, key("pitch_deg"));
+    CheckInRange(w.roll_deg, -360.0, 360.0, key("roll_deg"));
+  }
+  const std::size_t most = WaypointFrameCount(waypoints, fps);
+  if (frames > most) {
+    throw core::InputError::ForParameter(
+        "camera.frames", fmt::format("{} frames at {} fps run past the last waypoint at {} s ({} frames)", frames, fps,
+                                     waypoints.back().time, most));
+  }
+}
+
 }  // namespace
 
 core::Pose CameraPoseFromYawPitch(const Eigen::Vector3d& position, double yaw_deg, double pitch_deg) {
@@ -179,6 +213,13 @@ core::Pose CameraPoseFromYawPitch(const Eigen::Vector3d& position, double yaw_de
   return PoseFromForward(position, forward, Eigen::Vector3d(std::sin(yaw), -std::cos(yaw), 0.0));
 }
 
+core::Pose CameraPoseFromYawPitchRoll(const Eigen::Vector3d& position, double yaw_deg, double pitch_deg,
+                                      double roll_deg) {
+  core::Pose T_wc = CameraPoseFromYawPitch(position, yaw_deg, pitch_deg);
+  T_wc.linear() = T_wc.linear() * Eigen::AngleAxisd(Radians(roll_deg), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  return T_wc;
+}
+
 core::Pose CameraPoseLookingAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target) {
   const Eigen::Vector3d direction = target - eye;
   if (!(direction.norm() > 1e-9)) throw core::InputError("camera look-at: the eye and the target coincide");
@@ -186,6 +227,65 @@ core::Pose CameraPoseLookingAt(const Eigen::Vector3d& eye, const Eigen::Vector3d
   const Eigen::Vector3d right = forward.cross(Eigen::Vector3d::UnitZ());
   if (!(right.norm() > 1e-6)) throw core::InputError("camera look-at: the view is vertical, the horizon is undefined");
   return PoseFromForward(eye, forward, right.normalized());
+}
+
+WaypointCurve::WaypointCurve(const std::vector<CameraWaypoint>& waypoints) {
+  for (const CameraWaypoint& waypoint : waypoints) {
+    Values v = {waypoint.position.x(), waypoint.position.y(), waypoint.position.z(), waypoint.yaw_deg,
+                waypoint.pitch_deg, waypoint.roll_deg};
+    if (!values_.empty()) {
+      // Yaw and roll turn the shorter way from the waypoint before.
+      for (const std::size_t angle : {std::size_t{3}, std::size_t{5}}) {
+        v[angle] = values_.back()[angle] + std::remainder(v[angle] - values_.back()[angle], 360.0);
+      }
+    }
+    times_.push_back(waypoint.time);
+    values_.push_back(v);
+  }
+  const std::size_t n = values_.size();
+  slopes_.assign(n, Values{});  // zero at both ends: the camera starts and ends at rest
+  for (std::size_t k = 1; k + 1 < n; ++k) {
+    const double h0 = times_[k] - times_[k - 1];
+    const double h1 = times_[k + 1] - times_[k];
+    for (std::size_t c = 0; c < kChannels; ++c) {
+      const double before = (values_[k][c] - values_[k - 1][c]) / h0;
+      const double after = (values_[k + 1][c] - values_[k][c]) / h1;
+      if (before * after <= 0.0) continue;  // turns back (or rests) here: flat, so nothing overshoots
+      const double mean = (h1 * before + h0 * after) / (h0 + h1);
+      const double limit = 3.0 * std::min(std::abs(before), std::abs(after));
+      slopes_[k][c] = std::clamp(mean, -limit, limit);
+    }
+  }
+}
+
+core::Pose WaypointCurve::At(double time) const {
+  Values v = values_.front();
+  if (time >= times_.back()) {
+    v = values_.back();
+  } else if (time > times_.front()) {
+    const std::size_t k =
+        static_cast<std::size_t>(std::upper_bound(times_.begin(), times_.end(), time) - times_.begin()) - 1;
+    const double h = times_[k + 1] - times_[k];
+    const double s = (time - times_[k]) / h;
+    // Cubic Hermite basis; at s = 0 it gives the waypoint's value exactly.
+    const double s2 = s * s;
+    const double s3 = s2 * s;
+    const double h00 = 2.0 * s3 - 3.0 * s2 + 1.0;
+    const double h10 = s3 - 2.0 * s2 + s;
+    const double h01 = -2.0 * s3 + 3.0 * s2;
+    const double h11 = s3 - s2;
+    for (std::size_t c = 0; c < kChannels; ++c) {
+      v[c] = h00 * values_[k][c] + h10 * h * slopes_[k][c] + h01 * values_[k + 1][c] + h11 * h * slopes_[k + 1][c];
+    }
+  }
+  return CameraPoseFromYawPitchRoll({v[0], v[1], v[2]}, v[3], v[4], v[5]);
+}
+
+std::size_t WaypointFrameCount(const std::vector<CameraWaypoint>& waypoints, double fps) {
+  if (waypoints.empty()) return 0;
+  // The tolerance keeps a last waypoint that lies on a frame, but for rounding, in the path.
+  const double span = waypoints.back().time - waypoints.front().time;
+  return static_cast<std::size_t>(std::floor(span * fps + 1e-6)) + 1;
 }
 
 std::string_view ToString(ProceduralMotion motion) { return core::EnumName(kMotionNames, motion); }
@@ -209,10 +309,14 @@ void ProceduralPathOptions::Check() const {
     fail("pivot_distance", fmt::format("must be > 0 metres, got {}", pivot_distance));
   }
   if (!(period > 0.0 && std::isfinite(period))) fail("period", fmt::format("must be > 0 seconds, got {}", period));
-  if (motion != ProceduralMotion::kCircle) return;
-  if (!(radius > 0.0 && std::isfinite(radius))) fail("radius", fmt::format("must be > 0 metres, got {}", radius));
+  if (motion != ProceduralMotion::kCircle && motion != ProceduralMotion::kWaypoints) return;
   CheckInRange(wobble, 0.0, 0.5, "camera.wobble");
   CheckInRange(wobble_angle_deg, 0.0, 10.0, "camera.wobble_angle_deg");
+  if (motion == ProceduralMotion::kWaypoints) {
+    CheckWaypoints(waypoints, fps, frames);
+    return;
+  }
+  if (!(radius > 0.0 && std::isfinite(radius))) fail("radius", fmt::format("must be > 0 metres, got {}", radius));
   if (LevelForward(T_anchor).isZero()) fail("pitch_deg", "the circle camera cannot look straight up or down");
 }
 
@@ -276,13 +380,18 @@ CameraPath CameraPath::FromTum(const std::filesystem::path& groundtruth, const s
 CameraPath CameraPath::Procedural(const ProceduralPathOptions& options) {
   options.Check();
   const HandShake shake(options.wobble_seed);
+  const bool waypoints = options.motion == ProceduralMotion::kWaypoints;
+  const std::optional<WaypointCurve> curve =
+      waypoints ? std::optional<WaypointCurve>(options.waypoints) : std::nullopt;
   CameraPath path;
   path.frames_.reserve(options.frames);
   for (std::size_t i = 0; i < options.frames; ++i) {
     const double elapsed = static_cast<double>(i) / options.fps;
     const double timestamp = options.start_time + elapsed;
-    core::Pose T_wc = options.T_anchor * RelativeMotion(options, 2.0 * std::numbers::pi * elapsed / options.period);
-    if (options.motion == ProceduralMotion::kCircle) {
+    core::Pose T_wc = waypoints ? curve->At(elapsed)
+                                : options.T_anchor *
+                                      RelativeMotion(options, 2.0 * std::numbers::pi * elapsed / options.period);
+    if (options.motion == ProceduralMotion::kCircle || waypoints) {
       T_wc = T_wc * shake.At(elapsed, options.wobble, Radians(options.wobble_angle_deg));
     }
     path.frames_.push_back({timestamp, timestamp, T_wc});

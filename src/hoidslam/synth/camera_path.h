@@ -1,10 +1,12 @@
 #pragma once
 // Camera paths for synthetic sequences: either a real TUM fr3 camera path with its real frame timing,
-// re-anchored into the synthetic room, or a procedural path at a fixed frame rate that needs no data files.
+// re-anchored into the synthetic room, or a procedural path at a fixed frame rate that needs no data files (a
+// shape placed by its first pose, or a smooth path through timed waypoints in the room).
 //
 // Re-anchoring: T_synth_wc(t) = T_anchor * T_tum_wc(t0)^-1 * T_tum_wc(t), where t0 is the first frame kept,
 // so the first camera pose is T_anchor and every motion relative to it is the real one.
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -22,6 +24,10 @@ namespace hoidslam::synth {
 // heading `yaw_deg` (0 = world +x, 90 = world +y) and elevation `pitch_deg` (negative = looking down), with
 // the image x axis horizontal and the image y axis pointing down.
 core::Pose CameraPoseFromYawPitch(const Eigen::Vector3d& position, double yaw_deg, double pitch_deg);
+// CameraPoseFromYawPitch turned by `roll_deg` about the optical axis; positive turns the image's right side down
+// (clockwise, seen from behind the camera).
+core::Pose CameraPoseFromYawPitchRoll(const Eigen::Vector3d& position, double yaw_deg, double pitch_deg,
+                                      double roll_deg);
 // A camera pose at `eye` looking at `target` with a level horizon. Throws InputError when they coincide or
 // the view is vertical.
 core::Pose CameraPoseLookingAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target);
@@ -41,10 +47,49 @@ enum class ProceduralMotion {
   kRpy,         // "rpy": rotation about the three axes, position fixed
   kCircle,      // "circle": round a vertical axis `radius` behind the first pose, facing outwards, one turn
                 // (counter-clockwise seen from above) per `period`, with a seeded hand-held shake
+  kWaypoints,   // "waypoints": a smooth path through timed poses in the room (WaypointCurve), with the same shake
 };
 std::string_view ToString(ProceduralMotion motion);
-// Parses "static", "xyz", "halfsphere", "rpy", "circle"; throws InputError naming `parameter` otherwise.
+// Parses "static", "xyz", "halfsphere", "rpy", "circle", "waypoints"; throws InputError naming `parameter` otherwise.
 ProceduralMotion ParseProceduralMotion(std::string_view text, const std::string& parameter);
+
+// One timed pose of a waypoint path, in the room frame.
+struct CameraWaypoint {
+  double time = 0.0;                                   // seconds from the first frame
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // optical centre, metres
+  double yaw_deg = 90.0;                               // heading (CameraPoseFromYawPitch), in [-360, 360]
+  double pitch_deg = 0.0;                              // elevation, negative = down, in [-89, 89]
+  double roll_deg = 0.0;  // about the optical axis (CameraPoseFromYawPitchRoll), in [-360, 360]
+};
+
+// A camera moving smoothly through timed waypoints: each of x, y, z, yaw, pitch and roll is a cubic Hermite curve
+// of time through the waypoints' values. Its slope at a waypoint is the time-weighted mean of the slopes of the two
+// straight pieces that meet there (Catmull-Rom for uneven steps), zero where the value turns back and at most three
+// times the smaller of those slopes (so between two waypoints each value stays between theirs: no overshoot past a
+// wall or a desk the waypoints keep clear of), and zero at the first and last waypoint (the camera starts and ends
+// at rest). So the path goes exactly through every waypoint and its velocity is continuous (C1). Yaw and roll turn
+// the shorter way from one waypoint to the next: a turn of more than 180 degrees needs waypoints in between.
+class WaypointCurve {
+ public:
+  // `waypoints`: at least one, times strictly increasing (ProceduralPathOptions::Check says so by key).
+  explicit WaypointCurve(const std::vector<CameraWaypoint>& waypoints);
+
+  // The pose at `time` (the waypoints' clock); before the first or after the last waypoint, the pose there. At a
+  // waypoint's time, exactly its pose (CameraPoseFromYawPitchRoll of its values; of yaw or roll unwrapped by
+  // whole turns when they wrap round).
+  core::Pose At(double time) const;
+
+ private:
+  static constexpr std::size_t kChannels = 6;  // x, y, z (metres), yaw, pitch, roll (degrees, unwrapped)
+  using Values = std::array<double, kChannels>;
+  std::vector<double> times_;
+  std::vector<Values> values_;
+  std::vector<Values> slopes_;  // per second
+};
+
+// The frames of a waypoint path at `fps`: one every 1 / fps seconds from the first waypoint's time to the last's
+// (the last included when it falls on a frame).
+std::size_t WaypointFrameCount(const std::vector<CameraWaypoint>& waypoints, double fps);
 
 struct ProceduralPathOptions {
   ProceduralMotion motion = ProceduralMotion::kXyz;
@@ -56,14 +101,19 @@ struct ProceduralPathOptions {
   double pivot_distance = 2.0;     // metres, > 0: halfsphere orbits the point this far ahead of the first pose
   double period = 12.0;            // seconds, > 0: time of one full cycle (circle: one turn)
   double radius = 0.5;             // metres, > 0: circle radius
-  // The circle's hand-held shake, so that a second turn sees the room from nearly, not exactly, the same poses:
-  // smooth, zero at the first frame, within these bounds along and about each camera axis.
+  // The circle's and the waypoint path's hand-held shake, so that a second turn (or a return) sees the room from
+  // nearly, not exactly, the same poses: smooth, zero at the first frame, within these bounds along and about each
+  // camera axis.
   double wobble = 0.03;            // metres, in [0, 0.5]
   double wobble_angle_deg = 2.0;   // degrees, in [0, 10]
   std::uint64_t wobble_seed = 1;
-  core::Pose T_anchor = core::Pose::Identity();  // the pose at the first frame
+  core::Pose T_anchor = core::Pose::Identity();  // the pose at the first frame (waypoints: not used, the path
+                                                 // starts at its first waypoint)
+  // The waypoint path: at least two, the first at time 0, times strictly increasing; `frames` at most
+  // WaypointFrameCount(waypoints, fps).
+  std::vector<CameraWaypoint> waypoints;
 
-  // Throws InputError naming the parameter ("camera.fps", ...).
+  // Throws InputError naming the parameter ("camera.fps", "camera.waypoints[3].time", ...).
   void Check() const;
 };
 

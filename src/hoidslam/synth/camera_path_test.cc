@@ -6,6 +6,7 @@
 #include <functional>
 #include <numbers>
 #include <string>
+#include <vector>
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -343,6 +344,121 @@ TEST(CameraPath, CircleOptionsOutOfRangeNameTheirKey) {
   options = TwoTurns(0.03, 2.0);
   options.T_anchor = core::Pose::Identity();  // looks straight up: no level direction to turn about
   EXPECT_NE(Message([&] { CameraPath::Procedural(options); }).find("camera.pitch_deg"), std::string::npos);
+}
+
+// Four waypoints at uneven times: a walk along x, a turn on the spot through +-180 degrees of yaw, a climb with
+// pitch and roll.
+std::vector<CameraWaypoint> FourWaypoints() {
+  return {{0.0, {1.0, 2.0, 1.4}, 170.0, -10.0, 0.0},
+          {1.5, {2.0, 2.2, 1.4}, -160.0, -5.0, 10.0},  // 30 degrees on from 170, the shorter way round
+          {2.5, {2.5, 2.2, 1.5}, -120.0, 5.0, -20.0},
+          {4.0, {2.5, 3.0, 1.6}, -100.0, 0.0, 0.0}};
+}
+
+ProceduralPathOptions WaypointOptions(std::vector<CameraWaypoint> waypoints, double fps) {
+  ProceduralPathOptions options;
+  options.motion = ProceduralMotion::kWaypoints;
+  options.fps = fps;
+  options.waypoints = std::move(waypoints);
+  options.frames = WaypointFrameCount(options.waypoints, fps);
+  options.wobble = 0.0;
+  options.wobble_angle_deg = 0.0;
+  return options;
+}
+
+TEST(CameraPath, WaypointsArePassedExactlyAtTheirTimes) {
+  const std::vector<CameraWaypoint> waypoints = FourWaypoints();
+  const CameraPath path = CameraPath::Procedural(WaypointOptions(waypoints, 10.0));
+  ASSERT_EQ(path.size(), 41U);  // 0 to 4 s at 10 Hz, both ends included
+  for (const CameraWaypoint& w : waypoints) {
+    const core::Pose expected = CameraPoseFromYawPitchRoll(w.position, w.yaw_deg, w.pitch_deg, w.roll_deg);
+    const CameraFrame& frame = path.frames()[static_cast<std::size_t>(std::lround(w.time * 10.0))];
+    EXPECT_TRUE(frame.T_wc.translation() == w.position) << w.time;  // to the bit
+    ExpectPoseNear(frame.T_wc, expected, 1e-12);
+  }
+  // Roll turns the image's right side down: the camera's x axis dips.
+  const core::Pose rolled = CameraPoseFromYawPitchRoll({0, 0, 1}, 90.0, 0.0, 30.0);
+  EXPECT_NEAR(rolled.linear().col(0).z(), -0.5, 1e-12);
+  EXPECT_LT((rolled.linear().col(2) - Eigen::Vector3d::UnitY()).norm(), 1e-12);
+  // Before the first and after the last waypoint, the path holds still.
+  const WaypointCurve curve(waypoints);
+  ExpectPoseNear(curve.At(-1.0), path.frames().front().T_wc, 1e-12);
+  ExpectPoseNear(curve.At(9.0), path.frames().back().T_wc, 1e-12);
+}
+
+TEST(CameraPath, WaypointPathHasAContinuousVelocityAndNoOvershoot) {
+  const std::vector<CameraWaypoint> waypoints = FourWaypoints();
+  const WaypointCurve curve(waypoints);
+  // Velocity (of position, and of the rotation) by central differences just before and just after each
+  // waypoint: equal as the step shrinks (C1), and zero at both ends (it starts and ends at rest).
+  const auto velocity = [&](double t, double h) {
+    const core::Pose a = curve.At(t - h);
+    const core::Pose b = curve.At(t + h);
+    Eigen::Matrix<double, 6, 1> v;
+    v.head<3>() = (b.translation() - a.translation()) / (2.0 * h);
+    const Eigen::AngleAxisd turn(a.linear().transpose() * b.linear());
+    v.tail<3>() = a.linear() * turn.axis() * turn.angle() / (2.0 * h);
+    return v;
+  };
+  for (std::size_t k = 1; k + 1 < waypoints.size(); ++k) {
+    const double t = waypoints[k].time;
+    const double jump_coarse = (velocity(t - 1e-3, 1e-4) - velocity(t + 1e-3, 1e-4)).norm();
+    const double jump_fine = (velocity(t - 1e-5, 1e-6) - velocity(t + 1e-5, 1e-6)).norm();
+    EXPECT_LT(jump_fine, 1e-3) << t;
+    EXPECT_LT(jump_fine, 0.1 * jump_coarse + 1e-6) << t;
+    EXPECT_GT(velocity(t, 1e-5).norm(), 0.01) << t;  // moving through (not stopping at) the middle waypoints
+  }
+  EXPECT_LT(velocity(1e-6, 1e-7).head<3>().norm(), 1e-3);
+  EXPECT_LT(velocity(4.0 - 1e-6, 1e-7).head<3>().norm(), 1e-3);
+  // Between two waypoints each value stays between theirs: x never passes 2.5, z never drops below 1.4.
+  for (double t = 0.0; t <= 4.0; t += 0.01) {
+    const Eigen::Vector3d p = curve.At(t).translation();
+    EXPECT_LE(p.x(), 2.5 + 1e-12);
+    EXPECT_GE(p.z(), 1.4 - 1e-12);
+    EXPECT_LE(p.z(), 1.6 + 1e-12);
+  }
+  // The yaw goes from 170 to 200 degrees the short way: the view never swings through 0.
+  for (double t = 0.0; t <= 1.5; t += 0.01) EXPECT_LT(curve.At(t).linear().col(2).x(), -0.5);
+}
+
+TEST(CameraPath, WaypointShakeStartsAtTheFirstWaypointAndStaysWithinItsBounds) {
+  ProceduralPathOptions options = WaypointOptions(FourWaypoints(), 30.0);
+  const CameraPath plain = CameraPath::Procedural(options);
+  options.wobble = 0.02;
+  options.wobble_angle_deg = 1.0;
+  options.wobble_seed = 5;
+  const CameraPath shaken = CameraPath::Procedural(options);
+  ExpectPoseNear(shaken.frames().front().T_wc, plain.frames().front().T_wc, 1e-12);
+  double largest = 0.0;
+  for (std::size_t i = 0; i < plain.size(); ++i) {
+    const core::Pose shake = plain.frames()[i].T_wc.inverse() * shaken.frames()[i].T_wc;
+    EXPECT_LE(shake.translation().cwiseAbs().maxCoeff(), 0.02 + 1e-12);
+    largest = std::max(largest, shake.translation().norm());
+  }
+  EXPECT_GT(largest, 0.001);
+}
+
+TEST(CameraPath, WaypointOptionsOutOfOrderOrRangeNameTheirKey) {
+  const auto message = [](std::vector<CameraWaypoint> waypoints, std::size_t frames = 0) {
+    ProceduralPathOptions options = WaypointOptions(std::move(waypoints), 10.0);
+    if (frames > 0) options.frames = frames;
+    return Message([&] { CameraPath::Procedural(options); });
+  };
+  std::vector<CameraWaypoint> w = FourWaypoints();
+  w[2].time = 1.5;
+  EXPECT_NE(message(w).find("camera.waypoints[2].time: must be after waypoints[1].time (1.5 s)"), std::string::npos);
+  w = FourWaypoints();
+  w[0].time = 0.5;
+  EXPECT_NE(message(w).find("camera.waypoints[0].time: must be 0"), std::string::npos);
+  w = FourWaypoints();
+  w[3].pitch_deg = 90.0;
+  EXPECT_NE(message(w).find("camera.waypoints[3].pitch_deg"), std::string::npos);
+  EXPECT_NE(message({FourWaypoints()[0]}).find("camera.waypoints: needs at least two waypoints"), std::string::npos);
+  EXPECT_NE(message(FourWaypoints(), 42).find("camera.frames: 42 frames at 10 fps run past the last waypoint"),
+            std::string::npos);
+  ProceduralPathOptions options = WaypointOptions(FourWaypoints(), 10.0);
+  options.wobble = 0.7;
+  EXPECT_NE(Message([&] { CameraPath::Procedural(options); }).find("camera.wobble"), std::string::npos);
 }
 
 TEST(CameraPath, PoseHelpersFollowTheOpticalFrameConvention) {

@@ -30,6 +30,25 @@ constexpr core::EnumNames<ObjectKind, 8> kKindNames = {{
     {ObjectKind::kChair, "chair"},
 }};
 
+constexpr core::EnumNames<Wall, 4> kWallNames = {{
+    {Wall::kFront, "front"},
+    {Wall::kRight, "right"},
+    {Wall::kBack, "back"},
+    {Wall::kLeft, "left"},
+}};
+
+constexpr core::EnumNames<PanelKind, 3> kPanelNames = {{
+    {PanelKind::kPoster, "poster"},
+    {PanelKind::kWhiteboard, "whiteboard"},
+    {PanelKind::kDoor, "door"},
+}};
+
+// The whiteboard is a bright generic texture, the door tinted wood.
+const cv::Vec3f kWhiteboardTint = {1.1F, 1.1F, 1.1F};
+const cv::Vec3f kDoorTint = {0.6F, 0.7F, 0.8F};
+int WhiteboardTexture(const TextureSet& textures) { return textures.Index(TextureRole::kGeneric, 1); }
+int DoorTexture(const TextureSet& textures) { return textures.Index(TextureRole::kDesk); }
+
 struct KindInfo {
   ObjectKind kind;
   int coco_id;
@@ -174,10 +193,10 @@ void AddShelf(const Shelf& shelf, const TextureSet& textures, std::vector<Box>& 
   }
 }
 
-// A thin panel on the inside of a wall: `wall` 0..3 = y = 0, x = room.x, y = room.y, x = 0; `along` is the
-// distance from the wall's first corner going counter-clockwise round the room (seen from above); `z` is the
-// panel centre height.
-Box WallPanel(const OfficeLayout& layout, int wall, double along, double z, double width, double height, int texture,
+// A thin panel on the inside of a wall: `wall` 0..3 = y = 0, x = room.x, y = room.y, x = 0 (the order of Wall);
+// `along` is the distance from the wall's first corner going counter-clockwise round the room (seen from above);
+// `z` is the panel centre height.
+Box PanelBox(const OfficeLayout& layout, int wall, double along, double z, double width, double height, int texture,
               cv::Vec3f tint = {1.0F, 1.0F, 1.0F}) {
   const Vector3d& room = layout.room;
   const double depth = 0.01;
@@ -195,6 +214,30 @@ Box WallPanel(const OfficeLayout& layout, int wall, double along, double z, doub
                  std::max(width, height), tint);
 }
 
+// Length of a wall, metres.
+double WallLength(const OfficeLayout& layout, Wall wall) {
+  return wall == Wall::kFront || wall == Wall::kBack ? layout.room.x() : layout.room.y();
+}
+
+// The box of a panel of the layout's own list.
+Box PanelOnWall(const OfficeLayout& layout, const WallPanel& panel, const TextureSet& textures) {
+  // PanelBox measures along the walls counter-clockwise: the back and left walls run against x and y.
+  const double along =
+      panel.wall == Wall::kBack || panel.wall == Wall::kLeft ? WallLength(layout, panel.wall) - panel.at : panel.at;
+  const int wall = static_cast<int>(panel.wall);
+  switch (panel.kind) {
+    case PanelKind::kWhiteboard:
+      return PanelBox(layout, wall, along, panel.z, panel.size.x(), panel.size.y(), WhiteboardTexture(textures),
+                      kWhiteboardTint);
+    case PanelKind::kDoor:
+      return PanelBox(layout, wall, along, panel.z, panel.size.x(), panel.size.y(), DoorTexture(textures), kDoorTint);
+    case PanelKind::kPoster:
+      break;
+  }
+  return PanelBox(layout, wall, along, panel.z, panel.size.x(), panel.size.y(),
+                  textures.Index(TextureRole::kPoster, panel.variant));
+}
+
 OfficeObject Obj(std::string name, ObjectKind kind, Vector2d xy, double yaw_deg, int variant = 0,
                  std::optional<double> z = std::nullopt) {
   return OfficeObject{std::move(name), kind, xy, z, yaw_deg, variant};
@@ -206,6 +249,30 @@ std::string_view CocoLabel(ObjectKind kind) { return core::EnumName(kKindNames, 
 
 ObjectKind ParseObjectKind(std::string_view label, const std::string& parameter) {
   return core::ParseEnumName(kKindNames, label, parameter, "object type");
+}
+
+std::string_view ToString(Wall wall) { return core::EnumName(kWallNames, wall); }
+
+Wall ParseWall(std::string_view name, const std::string& parameter) {
+  return core::ParseEnumName(kWallNames, name, parameter, "wall");
+}
+
+std::string_view ToString(PanelKind kind) { return core::EnumName(kPanelNames, kind); }
+
+PanelKind ParsePanelKind(std::string_view name, const std::string& parameter) {
+  return core::ParseEnumName(kPanelNames, name, parameter, "panel type");
+}
+
+Eigen::Vector2d DefaultPanelSize(PanelKind kind) {
+  switch (kind) {
+    case PanelKind::kWhiteboard:
+      return {1.6, 1.0};
+    case PanelKind::kDoor:
+      return {0.95, 2.1};
+    case PanelKind::kPoster:
+      break;
+  }
+  return {0.7, 0.9};
 }
 
 int CocoClassId(std::string_view label) {
@@ -354,6 +421,24 @@ void OfficeLayout::Check(const std::string& source, const std::string& key, cons
     if (!inside(object.position)) object_fail("position", "outside the room");
     if (object.z && (*object.z < 0.0 || *object.z >= room.z())) object_fail("z", "outside the room");
   }
+  if (!walls) return;
+  for (std::size_t i = 0; i < walls->size(); ++i) {
+    const WallPanel& panel = (*walls)[i];
+    const auto panel_fail = [&](std::string_view field, const std::string& what) {
+      fail(fmt::format("walls[{}].{}", i, field), what);
+    };
+    if ((panel.size.array() <= 0.0).any()) panel_fail("size", "must be positive");
+    const double length = WallLength(*this, panel.wall);
+    if (panel.at - panel.size.x() / 2.0 < 0.0 || panel.at + panel.size.x() / 2.0 > length) {
+      panel_fail("at", fmt::format("a panel {} m wide at {} m does not fit the {} wall (0..{} m)", panel.size.x(),
+                                   panel.at, ToString(panel.wall), length));
+    }
+    if (panel.z - panel.size.y() / 2.0 < 0.0 || panel.z + panel.size.y() / 2.0 > room.z()) {
+      panel_fail("z", fmt::format("a panel {} m high at {} m does not fit between the floor and the ceiling "
+                                  "(0..{} m)",
+                                  panel.size.y(), panel.z, room.z()));
+    }
+  }
 }
 
 void OfficeLayout::Check(const std::string& source, const std::string& key) const {
@@ -498,24 +583,27 @@ std::vector<SceneInstance> BuildStructure(const OfficeLayout& layout, const Text
        MakeBox(PoseAt({-t / 2, mid.y(), mid.z()}), {t / 2, mid.y(), mid.z()}, wall, 1.2, {0.9F, 0.95F, 1.0F}),
        MakeBox(PoseAt({room.x() + t / 2, mid.y(), mid.z()}), {t / 2, mid.y(), mid.z()}, wall, 1.2,
                {0.9F, 0.95F, 1.0F})});
-  // Posters, a whiteboard and a door on the walls (wall 0: y = 0, 1: x = max, 2: y = max, 3: x = 0).
   std::vector<Box> panels;
-  int poster = 0;
-  auto poster_at = [&](int w, double along, double z, double width, double height) {
-    panels.push_back(WallPanel(layout, w, along, z, width, height, textures.Index(TextureRole::kPoster, poster++)));
-  };
-  poster_at(2, 2.6, 1.75, 0.7, 0.9);
-  poster_at(2, 5.6, 1.7, 0.9, 0.65);
-  poster_at(2, 7.5, 1.6, 0.6, 0.8);
-  poster_at(3, 1.2, 1.6, 0.8, 0.6);
-  poster_at(1, 4.6, 1.65, 0.7, 0.9);
-  poster_at(0, 2.0, 1.6, 0.9, 0.7);
-  poster_at(0, 6.0, 1.6, 0.7, 0.9);
-  poster_at(2, 0.5, 1.5, 0.5, 0.7);
-  panels.push_back(
-      WallPanel(layout, 3, 3.4, 1.45, 1.6, 1.0, textures.Index(TextureRole::kGeneric, 1), {1.1F, 1.1F, 1.1F}));
-  panels.push_back(WallPanel(layout, 1, 1.0, 1.05, 0.95, 2.1, textures.Index(TextureRole::kDesk), {0.6F, 0.7F, 0.8F}));
-  add(std::move(panels));
+  if (layout.walls) {
+    for (const WallPanel& panel : *layout.walls) panels.push_back(PanelOnWall(layout, panel, textures));
+  } else {
+    // Posters, a whiteboard and a door on the walls (wall 0: y = 0, 1: x = max, 2: y = max, 3: x = 0).
+    int poster = 0;
+    auto poster_at = [&](int w, double along, double z, double width, double height) {
+      panels.push_back(PanelBox(layout, w, along, z, width, height, textures.Index(TextureRole::kPoster, poster++)));
+    };
+    poster_at(2, 2.6, 1.75, 0.7, 0.9);
+    poster_at(2, 5.6, 1.7, 0.9, 0.65);
+    poster_at(2, 7.5, 1.6, 0.6, 0.8);
+    poster_at(3, 1.2, 1.6, 0.8, 0.6);
+    poster_at(1, 4.6, 1.65, 0.7, 0.9);
+    poster_at(0, 2.0, 1.6, 0.9, 0.7);
+    poster_at(0, 6.0, 1.6, 0.7, 0.9);
+    poster_at(2, 0.5, 1.5, 0.5, 0.7);
+    panels.push_back(PanelBox(layout, 3, 3.4, 1.45, 1.6, 1.0, WhiteboardTexture(textures), kWhiteboardTint));
+    panels.push_back(PanelBox(layout, 1, 1.0, 1.05, 0.95, 2.1, DoorTexture(textures), kDoorTint));
+  }
+  if (!panels.empty()) add(std::move(panels));
   for (const Desk& desk : layout.desks) {
     std::vector<Box> parts;
     AddDesk(desk, textures, parts);
@@ -526,8 +614,10 @@ std::vector<SceneInstance> BuildStructure(const OfficeLayout& layout, const Text
     AddShelf(shelf, textures, parts);
     add(std::move(parts));
   }
-  // A low cabinet along the left wall.
-  add({MakeBox(PoseAt({0.3, 3.9, 0.45}), {0.25, 0.6, 0.45}, textures.Index(TextureRole::kGeneric, 3), 0.9)});
+  if (!layout.walls) {
+    // A low cabinet along the left wall.
+    add({MakeBox(PoseAt({0.3, 3.9, 0.45}), {0.25, 0.6, 0.45}, textures.Index(TextureRole::kGeneric, 3), 0.9)});
+  }
   return structure;
 }
 

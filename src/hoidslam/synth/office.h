@@ -56,11 +56,38 @@ struct Shelf {
   int boards = 4;                           // shelf boards, >= 2
 };
 
+// The four walls, seen from above with the room's x axis to the right: front y = 0, right x = room.x, back
+// y = room.y, left x = 0.
+enum class Wall { kFront, kRight, kBack, kLeft };
+std::string_view ToString(Wall wall);  // "front", "right", "back", "left"
+// Parses the names ToString gives; throws InputError naming `parameter` otherwise.
+Wall ParseWall(std::string_view name, const std::string& parameter);
+
+enum class PanelKind { kPoster, kWhiteboard, kDoor };
+std::string_view ToString(PanelKind kind);  // "poster", "whiteboard", "door"
+// Parses the names ToString gives; throws InputError naming `parameter` otherwise.
+PanelKind ParsePanelKind(std::string_view name, const std::string& parameter);
+// The size a panel of that kind has unless told otherwise: width, height; metres.
+Eigen::Vector2d DefaultPanelSize(PanelKind kind);
+
+// A flat thing on a wall, drawn just inside it.
+struct WallPanel {
+  PanelKind kind = PanelKind::kPoster;
+  Wall wall = Wall::kBack;
+  double at = 1.0;                    // centre along the wall: its x on the front and back walls, its y on the others
+  double z = 1.6;                     // centre height, metres
+  Eigen::Vector2d size = {0.7, 0.9};  // width, height; metres
+  int variant = 0;                    // posters: which poster texture (with photos: which photo, wrapping round)
+};
+
 struct OfficeLayout {
   Eigen::Vector3d room = {8.0, 6.0, 2.8};  // metres
   std::vector<Desk> desks;
   std::vector<Shelf> shelves;
   std::vector<OfficeObject> objects;
+  // What is on the walls. Nullopt: the default office's posters, whiteboard and door (placed for its 8 x 6 m room)
+  // and the low cabinet along the left wall; else exactly these panels, and whatever wall they leave is bare.
+  std::optional<std::vector<WallPanel>> walls;
 
   // Base height of a thing standing at (x, y): the top of the desk there, else the floor.
   double SupportHeightAt(const Eigen::Vector2d& xy) const;
@@ -78,9 +105,10 @@ struct OfficeLayout {
   // The resting pose of `object` (its base height resolved with SupportHeightAt when not given).
   core::Pose RestPose(const OfficeObject& object) const;
   // Throws InputError "<source>: <key>.<list>[i].<field>: ..." for duplicate names, a non-positive size, or
-  // anything outside the room; `key` is the layout's key in the scenario ("office"). `base` is the layout this
-  // one extends: its desks, shelves and objects come first in each list, and i counts from the first entry
-  // after them, as in the scenario's own arrays. A base entry outside a smaller room is blamed on "room".
+  // anything outside the room (a wall panel off its wall); `key` is the layout's key in the scenario ("office").
+  // `base` is the layout this one extends: its desks, shelves and objects come first in each list, and i counts
+  // from the first entry after them, as in the scenario's own arrays (`walls` is never the base's). A base entry
+  // outside a smaller room is blamed on "room".
   void Check(const std::string& source, const std::string& key, const OfficeLayout& base) const;
   // The same for a layout of its own (no base).
   void Check(const std::string& source, const std::string& key) const;

@@ -3,9 +3,12 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <Eigen/Core>
 #include <algorithm>
+#include <array>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "hoidslam/core/error.h"
 
@@ -157,6 +160,39 @@ TEST(Office, StructureIsUnlabelledWithConsecutiveIds) {
     EXPECT_FALSE(structure[i].moving);
     for (const Box& box : structure[i].parts) EXPECT_LT(box.texture, textures.size());
   }
+}
+
+TEST(Office, OwnWallPanelsReplaceTheDefaultDecorationAndStandInsideTheirWalls) {
+  const TextureSet textures;
+  OfficeLayout office;
+  office.room = {6.0, 5.0, 2.7};
+  office.desks = {Desk{"desk_1", {3.0, 2.5}, 0.0}};
+  const std::size_t decorated = BuildStructure(office, textures, 1).size();
+  office.walls.emplace();
+  // Floor, ceiling, walls and the desk: no panels, no cabinet.
+  EXPECT_EQ(BuildStructure(office, textures, 1).size(), 4U);
+  EXPECT_EQ(decorated, 6U);  // and the default panels and the cabinet
+  office.walls = std::vector<WallPanel>{{PanelKind::kPoster, Wall::kFront, 2.0, 1.6, {0.6, 0.8}, 1},
+                                        {PanelKind::kDoor, Wall::kRight, 1.0, 1.05, {0.95, 2.1}, 0},
+                                        {PanelKind::kWhiteboard, Wall::kBack, 4.0, 1.45, {1.6, 1.0}, 0},
+                                        {PanelKind::kPoster, Wall::kLeft, 3.0, 1.6, {0.6, 0.8}, 2}};
+  office.Check("o.json", "office");
+  const std::vector<SceneInstance> structure = BuildStructure(office, textures, 1);
+  ASSERT_EQ(structure.size(), 5U);
+  const std::vector<Box>& panels = structure[3].parts;
+  ASSERT_EQ(panels.size(), 4U);
+  // Each panel's centre lies just inside its wall, at its place along it.
+  const std::array<Eigen::Vector3d, 4> centres = {Eigen::Vector3d(2.0, 0.01, 1.6), Eigen::Vector3d(5.99, 1.0, 1.05),
+                                                  Eigen::Vector3d(4.0, 4.99, 1.45), Eigen::Vector3d(0.01, 3.0, 1.6)};
+  for (std::size_t i = 0; i < panels.size(); ++i) {
+    EXPECT_LT((panels[i].T_wb.translation() - centres[i]).norm(), 1e-9) << i;
+  }
+  EXPECT_EQ(panels[0].texture, textures.Index(TextureRole::kPoster, 1));
+  EXPECT_EQ(panels[3].texture, textures.Index(TextureRole::kPoster, 2));
+  // A panel hanging off its wall is named.
+  (*office.walls)[3].at = 4.8;
+  EXPECT_THAT([&] { office.Check("o.json", "office"); },
+              ::testing::ThrowsMessage<core::InputError>(HasSubstr("o.json: office.walls[3].at: a panel 0.6 m wide")));
 }
 
 }  // namespace

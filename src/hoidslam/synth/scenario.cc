@@ -164,48 +164,100 @@ core::Pose ParseAnchor(const Node& camera) {
                                 camera.NumberOr("pitch_deg", 0.0, -89.0, 89.0));
 }
 
+std::vector<CameraWaypoint> ParseWaypoints(const Node& list) {
+  std::vector<CameraWaypoint> waypoints;
+  const std::size_t n = list.ArraySize();
+  if (n < 2) list.Fail(fmt::format("needs at least two waypoints, got {}", n));
+  for (std::size_t i = 0; i < n; ++i) {
+    const Node node = list.Element(i);
+    node.AllowOnly({"time", "position", "yaw_deg", "pitch_deg", "roll_deg"});
+    CameraWaypoint w;
+    w.time = node.Child("time").Number(0.0, 1e6);
+    if (i == 0 && w.time != 0.0) node.Child("time").Fail("must be 0: the path starts at its first waypoint");
+    if (i > 0 && !(w.time > waypoints.back().time)) {
+      node.Child("time").Fail(
+          fmt::format("must be after waypoints[{}].time ({} s), got {}", i - 1, waypoints.back().time, w.time));
+    }
+    w.position = node.Child("position").Vector<3>();
+    w.yaw_deg = node.NumberOr("yaw_deg", w.yaw_deg, -360.0, 360.0);
+    w.pitch_deg = node.NumberOr("pitch_deg", w.pitch_deg, -89.0, 89.0);
+    w.roll_deg = node.NumberOr("roll_deg", w.roll_deg, -360.0, 360.0);
+    waypoints.push_back(w);
+  }
+  return waypoints;
+}
+
 CameraSpec ParseCamera(const Node& camera) {
   static constexpr std::array kProceduralKeys = {"fps", "frames", "amplitude", "angle_amplitude_deg", "period",
                                                  "start_time"};
-  static constexpr std::array kCircleKeys = {"radius", "turns", "wobble", "wobble_angle_deg", "wobble_seed"};
+  static constexpr std::array kCircleKeys = {"radius", "turns"};
+  static constexpr std::array kShakeKeys = {"wobble", "wobble_angle_deg", "wobble_seed"};
+  static constexpr std::array kAnchorKeys = {"position", "look_at", "yaw_deg", "pitch_deg"};
   camera.AllowOnly({"tum", "procedural", "fps", "frames", "amplitude", "angle_amplitude_deg", "period", "start_time",
-                    "radius", "turns", "wobble", "wobble_angle_deg", "wobble_seed", "position", "look_at", "yaw_deg",
-                    "pitch_deg"});
+                    "radius", "turns", "wobble", "wobble_angle_deg", "wobble_seed", "waypoints", "position", "look_at",
+                    "yaw_deg", "pitch_deg"});
   CameraSpec spec;
-  spec.T_anchor = ParseAnchor(camera);
   if (camera.Has("tum") == camera.Has("procedural")) camera.Fail("give exactly one of 'tum' and 'procedural'");
+  const auto only = [&camera](const auto& keys, const char* what) {
+    for (const char* key : keys) {
+      if (camera.Has(key)) camera.Child(key).Fail(what);
+    }
+  };
   if (camera.Has("tum")) {
+    spec.T_anchor = ParseAnchor(camera);
     spec.tum = camera.Child("tum").String();
     if (spec.tum.empty() || spec.tum.find('/') != std::string::npos || spec.tum.find("..") != std::string::npos) {
       camera.Child("tum").Fail("must be a TUM path name such as 'fr3_walking_xyz'");
     }
-    for (const char* key : kProceduralKeys) {
-      if (camera.Has(key)) camera.Child(key).Fail("only for a procedural camera");
-    }
-    for (const char* key : kCircleKeys) {
-      if (camera.Has(key)) camera.Child(key).Fail("only for a procedural circle camera");
-    }
+    only(kProceduralKeys, "only for a procedural camera");
+    only(kCircleKeys, "only for a procedural circle camera");
+    only(kShakeKeys, "only for a procedural circle or waypoints camera");
+    only(std::array{"waypoints"}, "only for a procedural waypoints camera");
     return spec;
   }
   ProceduralPathOptions& p = spec.procedural;
   p.motion = camera.Child("procedural").Parsed(ParseProceduralMotion);
   p.fps = camera.NumberOr("fps", p.fps, 1.0, 1000.0);
+  p.start_time = camera.NumberOr("start_time", p.start_time, 0.0, 1e10);
+  const bool circle = p.motion == ProceduralMotion::kCircle;
+  const bool waypoints = p.motion == ProceduralMotion::kWaypoints;
+  if (!circle) only(kCircleKeys, "only for the circle camera (\"procedural\": \"circle\")");
+  if (!circle && !waypoints) {
+    only(kShakeKeys, "only for the circle and waypoints cameras (\"procedural\": \"circle\" or \"waypoints\")");
+  }
+  if (!waypoints) only(std::array{"waypoints"}, "only for the waypoints camera (\"procedural\": \"waypoints\")");
+  if (circle || waypoints) {
+    p.wobble = camera.NumberOr("wobble", p.wobble, 0.0, 0.5);
+    p.wobble_angle_deg = camera.NumberOr("wobble_angle_deg", p.wobble_angle_deg, 0.0, 10.0);
+    if (camera.Has("wobble_seed")) p.wobble_seed = camera.Child("wobble_seed").Unsigned();
+  }
+  if (waypoints) {
+    // The waypoints place the path in the room and set its length.
+    only(kAnchorKeys, "not for the waypoints camera: it starts at its first waypoint");
+    only(std::array{"frames", "amplitude", "angle_amplitude_deg", "period"}, "not for the waypoints camera");
+    const Node list = camera.Child("waypoints");
+    p.waypoints = ParseWaypoints(list);
+    const std::size_t frames = WaypointFrameCount(p.waypoints, p.fps);
+    if (frames > static_cast<std::size_t>(kMaxCameraFrames)) {
+      list.Element(p.waypoints.size() - 1)
+          .Child("time")
+          .Fail(fmt::format("{} s at {} fps are {} frames, more than {}", p.waypoints.back().time, p.fps, frames,
+                            kMaxCameraFrames));
+    }
+    p.frames = frames;
+    const CameraWaypoint& first = p.waypoints.front();
+    spec.T_anchor = CameraPoseFromYawPitchRoll(first.position, first.yaw_deg, first.pitch_deg, first.roll_deg);
+    p.T_anchor = spec.T_anchor;
+    return spec;
+  }
+  spec.T_anchor = ParseAnchor(camera);
   if (camera.Has("frames")) p.frames = static_cast<std::size_t>(camera.Child("frames").Int(1, kMaxCameraFrames));
   p.amplitude = camera.NumberOr("amplitude", p.amplitude, 0.0, 3.0);
   p.angle_amplitude_deg = camera.NumberOr("angle_amplitude_deg", p.angle_amplitude_deg, 0.0, 90.0);
   p.period = camera.NumberOr("period", p.period, 0.1, 1e6);
-  p.start_time = camera.NumberOr("start_time", p.start_time, 0.0, 1e10);
   p.T_anchor = spec.T_anchor;
-  if (p.motion != ProceduralMotion::kCircle) {
-    for (const char* key : kCircleKeys) {
-      if (camera.Has(key)) camera.Child(key).Fail("only for the circle camera (\"procedural\": \"circle\")");
-    }
-    return spec;
-  }
+  if (!circle) return spec;
   p.radius = camera.NumberOr("radius", p.radius, 0.05, 10.0);
-  p.wobble = camera.NumberOr("wobble", p.wobble, 0.0, 0.5);
-  p.wobble_angle_deg = camera.NumberOr("wobble_angle_deg", p.wobble_angle_deg, 0.0, 10.0);
-  if (camera.Has("wobble_seed")) p.wobble_seed = camera.Child("wobble_seed").Unsigned();
   // The circle's length: `frames`, else `turns` turns of `period` seconds each.
   if (camera.Has("turns") && camera.Has("frames")) camera.Child("turns").Fail("give either 'turns' or 'frames'");
   if (!camera.Has("frames")) {
@@ -335,12 +387,43 @@ OfficeObject ParseObject(const Node& node) {
   return object;
 }
 
+// Nullopt for "default": the default office's decoration.
+std::optional<std::vector<WallPanel>> ParseWalls(const Node& node) {
+  if (node.value().is_string()) {
+    if (node.String() != "default") node.Fail("must be \"default\" or an array of wall panels");
+    return std::nullopt;
+  }
+  std::vector<WallPanel> panels;
+  for (std::size_t i = 0, n = node.ArraySize(); i < n; ++i) {
+    const Node p = node.Element(i);
+    p.AllowOnly({"type", "wall", "at", "z", "size", "variant"});
+    WallPanel panel;
+    panel.kind = p.Child("type").Parsed(ParsePanelKind);
+    panel.wall = p.Child("wall").Parsed(ParseWall);
+    panel.at = p.Child("at").Number(0.0, 100.0);
+    panel.size = p.Has("size") ? Eigen::Vector2d(p.Child("size").Vector<2>()) : DefaultPanelSize(panel.kind);
+    // A door stands on the floor.
+    if (panel.kind == PanelKind::kDoor) {
+      if (p.Has("z")) p.Child("z").Fail("not for a door: it stands on the floor");
+      panel.z = panel.size.y() / 2.0;
+    } else {
+      panel.z = p.NumberOr("z", panel.z, 0.0, 100.0);
+    }
+    if (p.Has("variant")) {
+      if (panel.kind != PanelKind::kPoster) p.Child("variant").Fail("only for a poster");
+      panel.variant = p.Child("variant").Int(0, 1000);
+    }
+    panels.push_back(panel);
+  }
+  return panels;
+}
+
 OfficeLayout ParseOffice(const Node& node, const std::string& source) {
   if (node.value().is_string()) {
     if (node.String() != "default") node.Fail("must be \"default\" or an object describing the layout");
     return DefaultOfficeLayout();
   }
-  node.AllowOnly({"base", "room", "desks", "shelves", "objects"});
+  node.AllowOnly({"base", "room", "desks", "shelves", "objects", "walls"});
   OfficeLayout base;
   if (node.Has("base")) {
     const Node base_node = node.Child("base");
@@ -386,6 +469,7 @@ OfficeLayout ParseOffice(const Node& node, const std::string& source) {
       office.objects.push_back(ParseObject(objects.Element(i)));
     }
   }
+  if (node.Has("walls")) office.walls = ParseWalls(node.Child("walls"));
   office.Check(source, node.key(), base);
   return office;
 }
@@ -426,6 +510,27 @@ std::vector<CoveredStretch> ParseCovered(const Node& node) {
     const CoveredStretch stretch{item.Child("from").Number(0.0, 1e6), item.Child("for").Number(0.001, 1e5)};
     if (!stretches.empty() && stretch.from < stretches.back().end()) {
       item.Child("from").Fail(fmt::format("must not be before the end of covered[{}] at {} s", i - 1,
+                                          stretches.back().end()));
+    }
+    stretches.push_back(stretch);
+  }
+  return stretches;
+}
+
+std::vector<DarkStretch> ParseDark(const Node& node) {
+  std::vector<DarkStretch> stretches;
+  for (std::size_t i = 0, n = node.ArraySize(); i < n; ++i) {
+    const Node item = node.Element(i);
+    item.AllowOnly({"from", "for", "level"});
+    DarkStretch stretch{item.Child("from").Number(0.0, 1e6), item.Child("for").Number(0.001, 1e5)};
+    if (item.Has("level")) {
+      stretch.level = item.Child("level").Number();
+      if (!(stretch.level > 0.0 && stretch.level <= 1.0)) {
+        item.Child("level").Fail(fmt::format("{} is outside (0, 1]", stretch.level));
+      }
+    }
+    if (!stretches.empty() && stretch.from < stretches.back().end()) {
+      item.Child("from").Fail(fmt::format("must not be before the end of dark[{}] at {} s", i - 1,
                                           stretches.back().end()));
     }
     stretches.push_back(stretch);
@@ -488,8 +593,8 @@ Scenario ParseScenario(std::string_view text, const std::string& source) {
     throw core::InputError::AtLine(source, line, "not valid JSON: " + std::string(e.what()));
   }
   const Node root(scenario.document, "", scenario.source);
-  root.AllowOnly({"name", "description", "seed", "frames", "camera", "covered", "office", "people", "detector_noise",
-                  "sensor_noise", "textures"});
+  root.AllowOnly({"name", "description", "seed", "frames", "camera", "covered", "dark", "office", "people",
+                  "detector_noise", "sensor_noise", "textures"});
   scenario.name = root.Child("name").String();
   if (scenario.name.empty()) root.Child("name").Fail("must not be empty");
   if (root.Has("description")) scenario.description = root.Child("description").String();
@@ -497,6 +602,7 @@ Scenario ParseScenario(std::string_view text, const std::string& source) {
   if (root.Has("frames")) scenario.max_frames = static_cast<std::size_t>(root.Child("frames").Int(0, 10000000));
   scenario.camera = ParseCamera(root.Child("camera"));
   if (root.Has("covered")) scenario.covered = ParseCovered(root.Child("covered"));
+  if (root.Has("dark")) scenario.dark = ParseDark(root.Child("dark"));
   scenario.office = root.Has("office") ? ParseOffice(root.Child("office"), scenario.source) : DefaultOfficeLayout();
   if (root.Has("people")) {
     const Node people = root.Child("people");
@@ -516,6 +622,13 @@ Scenario ParseScenario(std::string_view text, const std::string& source) {
 
 bool Scenario::LensCoveredAt(double time) const {
   return std::any_of(covered.begin(), covered.end(), [time](const CoveredStretch& s) { return s.Covers(time); });
+}
+
+double Scenario::LightLevelAt(double time) const {
+  for (const DarkStretch& stretch : dark) {
+    if (stretch.Covers(time)) return stretch.level;
+  }
+  return 1.0;
 }
 
 std::vector<std::string> BuiltinScenarioNames() {

@@ -77,6 +77,17 @@ struct CoveredStretch {
   bool Covers(double time) const { return time >= from && time < end(); }
 };
 
+// A stretch of time in which the lights are dimmed: the colour image is scaled to `level` of its brightness before
+// the sensor noise (which stays); depth, boxes and masks are as ever.
+struct DarkStretch {
+  double from = 0.0;      // seconds from the first frame
+  double duration = 0.0;  // seconds, > 0
+  double level = 0.1;     // share of the brightness left, in (0, 1]
+
+  double end() const { return from + duration; }
+  bool Covers(double time) const { return time >= from && time < end(); }
+};
+
 struct Scenario {
   std::string source;  // where it came from, for messages: a file path or "builtin:<name>"
   std::string name;
@@ -85,6 +96,7 @@ struct Scenario {
   std::size_t max_frames = 0;  // 0 = every frame of the camera path
   CameraSpec camera;
   std::vector<CoveredStretch> covered;  // in time order, none overlapping
+  std::vector<DarkStretch> dark;        // in time order, none overlapping (a covered lens is dark anyway)
   OfficeLayout office;
   std::vector<PersonSpec> people;
   DetectorNoiseOptions detector_noise;
@@ -94,6 +106,8 @@ struct Scenario {
 
   // True when `time` (seconds from the first frame) lies in a covered stretch.
   bool LensCoveredAt(double time) const;
+  // The share of the brightness the lights give at `time`: the level of the dark stretch there, else 1.
+  double LightLevelAt(double time) const;
 };
 
 // Parses a scenario. `source` names it in messages. Throws InputError "<source>: <key>: <what>" naming the

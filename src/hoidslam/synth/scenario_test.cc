@@ -224,6 +224,100 @@ TEST(Scenario, CoveredStretchesAreParsedInTimeOrderAndCheckedByKey) {
   EXPECT_THAT(covered(R"({"from": 1, "for": 2})"), HasSubstr("x.json: covered: must be an array"));
 }
 
+TEST(Scenario, DarkStretchesDimTheLightsInTimeOrderAndAreCheckedByKey) {
+  const Scenario s = ParseScenario(
+      WithCamera(R"("procedural": "circle")",
+                 R"( "dark": [{"from": 2, "for": 0.5, "level": 0.2}, {"from": 4, "for": 1}],
+                     "covered": [{"from": 4.5, "for": 1}],)"),
+      "x.json");
+  ASSERT_EQ(s.dark.size(), 2U);
+  EXPECT_DOUBLE_EQ(s.dark[0].level, 0.2);
+  EXPECT_DOUBLE_EQ(s.dark[1].level, 0.1);  // the default
+  EXPECT_DOUBLE_EQ(s.LightLevelAt(1.99), 1.0);
+  EXPECT_DOUBLE_EQ(s.LightLevelAt(2.0), 0.2);
+  EXPECT_DOUBLE_EQ(s.LightLevelAt(2.49), 0.2);
+  EXPECT_DOUBLE_EQ(s.LightLevelAt(2.5), 1.0);  // the first frame at the stretch's end is lit
+  EXPECT_DOUBLE_EQ(s.LightLevelAt(4.7), 0.1);  // dark and covered may overlap: a covered lens is dark anyway
+  EXPECT_TRUE(s.LensCoveredAt(4.7));
+  EXPECT_TRUE(ParseScenario(WithCamera(R"("procedural": "circle")"), "x.json").dark.empty());
+
+  const auto dark = [](const std::string& list) {
+    return ParseError(WithCamera(R"("procedural": "circle")", R"( "dark": )" + list + ","));
+  };
+  EXPECT_THAT(dark(R"([{"from": 2, "for": 2}, {"from": 3, "for": 1}])"),
+              HasSubstr("x.json: dark[1].from: must not be before the end of dark[0] at 4 s"));
+  EXPECT_THAT(dark(R"([{"from": 2, "for": 1, "level": 0}])"), HasSubstr("x.json: dark[0].level: 0 is outside (0, 1]"));
+  EXPECT_THAT(dark(R"([{"from": 2, "for": 1, "level": 1.5}])"),
+              HasSubstr("x.json: dark[0].level: 1.5 is outside (0, 1]"));
+  EXPECT_THAT(dark(R"([{"from": 2, "for": 1, "level": "dim"}])"), HasSubstr("x.json: dark[0].level: must be a number"));
+  EXPECT_THAT(dark(R"([{"from": 2, "for": 0}])"), HasSubstr("x.json: dark[0].for: 0 is outside [0.001, 100000]"));
+  EXPECT_THAT(dark(R"([{"for": 2}])"), HasSubstr("x.json: dark[0]: missing key 'from'"));
+  EXPECT_THAT(dark(R"([{"from": 1, "for": 2, "lvl": 0.5}])"), HasSubstr("x.json: dark[0].lvl: unknown key"));
+  EXPECT_THAT(dark(R"({"from": 1, "for": 2})"), HasSubstr("x.json: dark: must be an array"));
+}
+
+// A valid scenario whose waypoints camera has `waypoints` (a JSON array) and `camera_keys` besides.
+std::string WithWaypoints(const std::string& waypoints, const std::string& camera_keys = "") {
+  return R"({"name": "t", "camera": {"procedural": "waypoints", )" + camera_keys + R"("waypoints": )" + waypoints +
+         R"(}, "people": []})";
+}
+
+constexpr const char* kThreeWaypoints = R"([{"time": 0, "position": [2, 2, 1.4], "yaw_deg": 90, "pitch_deg": -10},
+    {"time": 2.5, "position": [3, 2, 1.5], "yaw_deg": 120, "roll_deg": 5},
+    {"time": 4, "position": [3, 3, 1.5]}])";
+
+TEST(Scenario, ParsesTheWaypointsCamera) {
+  const Scenario s = ParseScenario(WithWaypoints(kThreeWaypoints, R"("fps": 10, "wobble": 0.01, "wobble_seed": 3, )"),
+                                   "x.json");
+  const ProceduralPathOptions& p = s.camera.procedural;
+  EXPECT_EQ(p.motion, ProceduralMotion::kWaypoints);
+  ASSERT_EQ(p.waypoints.size(), 3U);
+  EXPECT_DOUBLE_EQ(p.waypoints[1].time, 2.5);
+  EXPECT_DOUBLE_EQ(p.waypoints[1].roll_deg, 5.0);
+  EXPECT_DOUBLE_EQ(p.waypoints[1].pitch_deg, 0.0);   // the default
+  EXPECT_DOUBLE_EQ(p.waypoints[2].yaw_deg, 90.0);    // the default
+  EXPECT_EQ(p.frames, 41U);                           // 0 to 4 s at 10 Hz
+  EXPECT_DOUBLE_EQ(p.wobble, 0.01);
+  EXPECT_DOUBLE_EQ(p.wobble_angle_deg, 2.0);          // the default
+  EXPECT_EQ(p.wobble_seed, 3U);
+  // The first waypoint is the anchor.
+  EXPECT_TRUE(s.camera.T_anchor.isApprox(CameraPoseFromYawPitch({2, 2, 1.4}, 90.0, -10.0), 1e-12));
+  EXPECT_EQ(CameraPath::Procedural(p).size(), 41U);
+}
+
+TEST(Scenario, WaypointKeysOutOfOrderRangeOrPlaceAreNamed) {
+  const std::pair<std::string, const char*> cases[] = {
+      {WithWaypoints(R"([{"time": 0, "position": [2, 2, 1.4]}, {"time": 2, "position": [3, 2, 1.4]},
+                         {"time": 3, "position": [3, 3, 1.4]}, {"time": 3, "position": [2, 3, 1.4]}])"),
+       "x.json: camera.waypoints[3].time: must be after waypoints[2].time (3 s), got 3"},
+      {WithWaypoints(R"([{"time": 1, "position": [2, 2, 1.4]}, {"time": 2, "position": [3, 2, 1.4]}])"),
+       "x.json: camera.waypoints[0].time: must be 0"},
+      {WithWaypoints(R"([{"time": 0, "position": [2, 2, 1.4]}])"),
+       "x.json: camera.waypoints: needs at least two waypoints, got 1"},
+      {WithWaypoints(R"([{"time": 0, "position": [2, 2, 1.4]}, {"time": 2, "position": [3, 2]}])"),
+       "x.json: camera.waypoints[1].position: must be an array of 3 numbers"},
+      {WithWaypoints(R"([{"time": 0, "position": [2, 2, 1.4], "pitch_deg": 95}, {"time": 2, "position": [3, 2, 1]}])"),
+       "x.json: camera.waypoints[0].pitch_deg: 95 is outside [-89, 89]"},
+      {WithWaypoints(R"([{"time": 0, "position": [2, 2, 1.4], "yaw": 95}, {"time": 2, "position": [3, 2, 1]}])"),
+       "x.json: camera.waypoints[0].yaw: unknown key"},
+      {WithWaypoints(R"([{"position": [2, 2, 1.4]}, {"time": 2, "position": [3, 2, 1]}])"),
+       "x.json: camera.waypoints[0]: missing key 'time'"},
+      {WithWaypoints(kThreeWaypoints, R"("position": [1, 1, 1], )"),
+       "x.json: camera.position: not for the waypoints camera: it starts at its first waypoint"},
+      {WithWaypoints(kThreeWaypoints, R"("frames": 10, )"), "x.json: camera.frames: not for the waypoints camera"},
+      {WithWaypoints(kThreeWaypoints, R"("radius": 1, )"), "x.json: camera.radius: only for the circle camera"},
+      {WithWaypoints(kThreeWaypoints, R"("wobble": 0.9, )"), "x.json: camera.wobble: 0.9 is outside [0, 0.5]"},
+      {R"({"name": "t", "camera": {"procedural": "waypoints"}})", "x.json: camera: missing key 'waypoints'"},
+      {WithCamera(R"("procedural": "circle", "waypoints": [])"),
+       "x.json: camera.waypoints: only for the waypoints camera"},
+      {WithCamera(R"("procedural": "xyz", "wobble": 0.01)"),
+       "x.json: camera.wobble: only for the circle and waypoints cameras"},
+      {WithCamera(R"("tum": "fr3_walking_xyz", "waypoints": [])"),
+       "x.json: camera.waypoints: only for a procedural waypoints camera"},
+  };
+  for (const auto& [text, message] : cases) EXPECT_THAT(ParseError(text), HasSubstr(message));
+}
+
 // The camera path of a shipped scenario with a procedural camera.
 std::vector<CameraFrame> ShippedPath(const std::string& name) {
   const Scenario scenario = LoadScenario(name);
@@ -334,6 +428,45 @@ TEST(Scenario, CustomOfficeLayoutsAreChecked) {
                                                                {"name": "a", "type": "cup", "position": [3, 4]}]},)")),
               HasSubstr("office.objects[1].name: duplicate name 'a'"));
   EXPECT_THAT(ParseError(Valid("[]", R"("office": "big",)")), HasSubstr("office: must be \"default\""));
+}
+
+TEST(Scenario, WallPanelsReplaceTheDefaultDecoration) {
+  const Scenario s = ParseScenario(Valid("[]", R"("office": {"base": "empty", "room": [6, 5, 2.7], "walls": [
+      {"type": "poster", "wall": "back", "at": 2, "z": 1.7, "size": [0.6, 0.8], "variant": 3},
+      {"type": "door", "wall": "left", "at": 1.2},
+      {"type": "whiteboard", "wall": "front", "at": 3}]},)"),
+                                   "x.json");
+  ASSERT_TRUE(s.office.walls.has_value());
+  const std::vector<WallPanel>& walls = *s.office.walls;
+  ASSERT_EQ(walls.size(), 3U);
+  EXPECT_EQ(walls[0].kind, PanelKind::kPoster);
+  EXPECT_EQ(walls[0].wall, Wall::kBack);
+  EXPECT_EQ(walls[0].variant, 3);
+  EXPECT_DOUBLE_EQ(walls[1].z, 1.05);  // a door stands on the floor
+  EXPECT_TRUE(walls[1].size.isApprox(DefaultPanelSize(PanelKind::kDoor)));
+  EXPECT_TRUE(walls[2].size.isApprox(Eigen::Vector2d(1.6, 1.0)));
+  EXPECT_FALSE(ParseScenario(Valid("[]", R"("office": {"base": "default", "walls": "default"},)"), "x.json")
+                   .office.walls.has_value());
+  EXPECT_FALSE(ParseScenario(Valid(), "x.json").office.walls.has_value());
+
+  const auto walls_error = [](const std::string& list) {
+    return ParseError(Valid("[]", R"("office": {"base": "empty", "room": [6, 5, 2.7], "walls": )" + list + "},"));
+  };
+  EXPECT_THAT(walls_error(R"([{"type": "poster", "wall": "north", "at": 2}])"),
+              HasSubstr("x.json: office.walls[0].wall: unknown wall 'north' (expected front, right, back or left)"));
+  EXPECT_THAT(walls_error(R"([{"type": "mirror", "wall": "back", "at": 2}])"),
+              HasSubstr("x.json: office.walls[0].type: unknown panel type 'mirror'"));
+  EXPECT_THAT(walls_error(R"([{"type": "poster", "wall": "left", "at": 4.8}])"),
+              HasSubstr("x.json: office.walls[0].at: a panel 0.7 m wide at 4.8 m does not fit the left wall (0..5 m)"));
+  EXPECT_THAT(walls_error(R"([{"type": "poster", "wall": "back", "at": 2, "z": 2.5}])"),
+              HasSubstr("x.json: office.walls[0].z: a panel 0.9 m high at 2.5 m does not fit"));
+  EXPECT_THAT(walls_error(R"([{"type": "door", "wall": "back", "at": 2, "z": 1}])"),
+              HasSubstr("x.json: office.walls[0].z: not for a door: it stands on the floor"));
+  EXPECT_THAT(walls_error(R"([{"type": "whiteboard", "wall": "back", "at": 2, "variant": 1}])"),
+              HasSubstr("x.json: office.walls[0].variant: only for a poster"));
+  EXPECT_THAT(walls_error(R"([{"type": "poster", "wall": "back", "at": 2, "size": [0, 1]}])"),
+              HasSubstr("x.json: office.walls[0].size: must be positive"));
+  EXPECT_THAT(walls_error(R"("bare")"), HasSubstr("x.json: office.walls: must be \"default\" or an array"));
 }
 
 TEST(Scenario, OfficeErrorsNameTheUsersOwnIndexOverTheDefaultBase) {

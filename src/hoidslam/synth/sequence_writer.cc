@@ -65,6 +65,14 @@ RenderOutput CoveredLensImage(const core::CameraIntrinsics& camera) {
           cv::Mat(size, CV_32S, cv::Scalar(kNoInstance))};
 }
 
+// The colour image under lights dimmed to `level` of their brightness (the image itself when they are not).
+cv::Mat Dimmed(const cv::Mat& bgr, double level) {
+  if (level >= 1.0) return bgr;
+  cv::Mat dimmed;
+  bgr.convertTo(dimmed, -1, level);
+  return dimmed;
+}
+
 double RoundToMicroseconds(double seconds) { return std::round(seconds * 1e6) / 1e6; }
 
 json EventJson(const WorldEvent& event, double time_origin) {
@@ -79,15 +87,17 @@ json EventJson(const WorldEvent& event, double time_origin) {
   return line;
 }
 
-// The lines of the event log, in time order: what the people do, and when the lens is covered and uncovered, with
-// the index of the first frame written covered and of the first written uncovered again (left out when the
-// sequence ends before it).
+// The lines of the event log, in time order: what the people do; when the lens is covered and uncovered, and when
+// the lights dim and come back, each with the index of the first frame written covered (dark) and of the first
+// written uncovered (lit) again (left out when the sequence ends before it).
 std::string EventLog(const World& world, const Scenario& scenario, const std::vector<CameraFrame>& frames) {
   const double time_origin = frames.front().timestamp;
   std::vector<std::pair<double, json>> lines;
   for (const WorldEvent& event : world.events()) lines.emplace_back(event.time, EventJson(event, time_origin));
-  auto lens_event = [&](double time, const char* action, const std::function<bool(double)>& frame_matches) {
-    json line = {{"time", RoundToMicroseconds(time_origin + time)}, {"action", action}};
+  auto stretch_event = [&](double time, const char* action, const std::function<bool(double)>& frame_matches,
+                           json line = json::object()) {
+    line["time"] = RoundToMicroseconds(time_origin + time);
+    line["action"] = action;
     const auto first = std::find_if(frames.begin(), frames.end(), [&](const CameraFrame& frame) {
       return frame_matches(frame.timestamp - time_origin);
     });
@@ -95,9 +105,14 @@ std::string EventLog(const World& world, const Scenario& scenario, const std::ve
     lines.emplace_back(time, std::move(line));
   };
   for (const CoveredStretch& stretch : scenario.covered) {
-    lens_event(stretch.from, "cover_lens", [&](double t) { return stretch.Covers(t); });
-    lens_event(stretch.end(), "uncover_lens",
-               [&](double t) { return t >= stretch.end() && !scenario.LensCoveredAt(t); });
+    stretch_event(stretch.from, "cover_lens", [&](double t) { return stretch.Covers(t); });
+    stretch_event(stretch.end(), "uncover_lens",
+                  [&](double t) { return t >= stretch.end() && !scenario.LensCoveredAt(t); });
+  }
+  for (const DarkStretch& stretch : scenario.dark) {
+    stretch_event(stretch.from, "dark", [&](double t) { return stretch.Covers(t); }, {{"level", stretch.level}});
+    stretch_event(stretch.end(), "undark",
+                  [&](double t) { return t >= stretch.end() && scenario.LightLevelAt(t) == 1.0; });
   }
   std::stable_sort(lines.begin(), lines.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   std::string log;
@@ -289,9 +304,9 @@ SynthResult WriteSequence(const Scenario& scenario, const SynthOptions& options)
         const CameraFrame& frame = frames[i];
         SceneSnapshot snapshot = world.Snapshot(frame.timestamp - time_origin);
         snapshot.timestamp = frame.timestamp;
-        const RenderOutput rendered = scenario.LensCoveredAt(frame.timestamp - time_origin)
-                                          ? CoveredLensImage(camera)
-                                          : renderer.Render(snapshot, frame.T_wc);
+        const double time = frame.timestamp - time_origin;
+        const bool covered = scenario.LensCoveredAt(time);
+        const RenderOutput rendered = covered ? CoveredLensImage(camera) : renderer.Render(snapshot, frame.T_wc);
         FrameResult& result = results[i];
         result.truth = GroundTruthBoxes(rendered.instance, snapshot, options.min_box_pixels);
         result.detections =
@@ -300,7 +315,9 @@ SynthResult WriteSequence(const Scenario& scenario, const SynthOptions& options)
                                camera.width, camera.height);
         const std::string t = StampText(frame.timestamp);
         WritePng(output.temporary() / "rgb" / (t + ".png"),
-                 ApplyRgbNoise(rendered.bgr, scenario.sensor_noise, FrameSeed(scenario.seed, i, kRgbNoise)), kNoisyPng);
+                 ApplyRgbNoise(covered ? rendered.bgr : Dimmed(rendered.bgr, scenario.LightLevelAt(time)),
+                               scenario.sensor_noise, FrameSeed(scenario.seed, i, kRgbNoise)),
+                 kNoisyPng);
         WritePng(output.temporary() / "depth" / (StampText(frame.depth_timestamp) + ".png"),
                  ApplyDepthNoise(rendered.depth, scenario.sensor_noise, FrameSeed(scenario.seed, i, kDepthNoise)),
                  kNoisyPng);

@@ -433,7 +433,7 @@ std::vector<nlohmann::json> ReadJsonLines(const fs::path& file) {
   return lines;
 }
 
-// The event log's line of the lens `action` ("cover_lens", "uncover_lens"); fails the test when there is none.
+// The event log's line of `action` ("cover_lens", "uncover_lens", "dark", "undark"); fails the test when there is none.
 nlohmann::json LensEvent(const fs::path& sequence, const std::string& action) {
   for (const nlohmann::json& line : ReadJsonLines(sequence / "events.jsonl")) {
     if (line.at("action") == action) return line;
@@ -507,6 +507,68 @@ TEST(SequenceWriter, ACoveredLensGivesDarkFramesWithoutDepthWhileTheGroundTruthG
   EXPECT_NEAR(uncover.value("time", 0.0), start + 0.55, 1e-6);
   EXPECT_EQ(uncover.value("frame", -1), 6);
   EXPECT_FALSE(uncover.contains("person"));
+}
+
+// The bytes of a file.
+std::string FileBytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+TEST(SequenceWriter, DarkFramesAreDimmedBeforeTheNoiseWithDepthMasksAndBoxesAsEver) {
+  testing::TempDir temp;
+  const auto scenario = [](const std::string& dark) {
+    return ParseScenario(R"({"name": "dark", "seed": 7, "camera": {"procedural": "xyz", "fps": 10, "frames": 8,
+                                 "position": [4.0, 1.2, 1.45], "look_at": [4.0, 4.5, 0.85]},)" +
+                             dark + R"( "people": )" + std::string(fixtures::kWalkThenStop) + "}",
+                         "dark.json");
+  };
+  WriteSequence(scenario(R"("dark": [{"from": 0.25, "for": 0.3, "level": 0.2}],)"), Options(temp / "dark"));
+  WriteSequence(scenario(""), Options(temp / "lit"));
+  const io::RgbdSequence dark = io::RgbdSequence::OpenTum(temp / "dark");
+  const io::RgbdSequence lit = io::RgbdSequence::OpenTum(temp / "lit");
+  ASSERT_EQ(dark.size(), 8U);
+  for (std::size_t i = 0; i < dark.size(); ++i) {
+    SCOPED_TRACE(i);
+    const core::RgbdFrame a = dark.LoadFrame(i);
+    const core::RgbdFrame b = lit.LoadFrame(i);
+    const std::string image = fs::path(dark.entry(i).rgb_path).filename().string();
+    for (const char* folder : {"depth", "mask", "people"}) {
+      EXPECT_EQ(FileBytes(temp / "dark" / folder / image), FileBytes(temp / "lit" / folder / image)) << folder;
+    }
+    if (i < 3 || i >= 6) {  // lit: the same image
+      EXPECT_EQ(FileBytes(temp / "dark" / "rgb" / image), FileBytes(temp / "lit" / "rgb" / image));
+      continue;
+    }
+    // 0.3 to 0.5 s: a fifth of the light, and the same sensor noise as ever. The noise n of both images is the same,
+    // so dark - 0.2 lit = 0.8 n: about 0.9 grey levels after the blur (0.2 n, were the noise dimmed too).
+    cv::Mat difference;
+    cv::Mat(a.rgb).convertTo(difference, CV_32F);
+    cv::Mat lit_rgb;
+    b.rgb.convertTo(lit_rgb, CV_32F, 0.2);
+    difference -= lit_rgb;
+    cv::Scalar mean;
+    cv::Scalar deviation;
+    cv::meanStdDev(difference.reshape(1), mean, deviation);
+    EXPECT_NEAR(mean[0], 0.0, 0.3);
+    EXPECT_GT(deviation[0], 0.6);
+    EXPECT_LT(deviation[0], 1.5);
+  }
+  // The same boxes (the header names the folder).
+  const std::vector<nlohmann::json> dark_boxes = ReadJsonLines(temp / "dark" / "detections.jsonl");
+  const std::vector<nlohmann::json> lit_boxes = ReadJsonLines(temp / "lit" / "detections.jsonl");
+  ASSERT_EQ(dark_boxes.size(), lit_boxes.size());
+  for (std::size_t i = 1; i < dark_boxes.size(); ++i) EXPECT_EQ(dark_boxes[i], lit_boxes[i]);
+  // The event log says when the lights dim and come back, and at which frames.
+  const double start = dark.Timestamps().front();
+  const nlohmann::json dim = LensEvent(temp / "dark", "dark");
+  EXPECT_NEAR(dim.value("time", 0.0), start + 0.25, 1e-6);
+  EXPECT_EQ(dim.value("frame", -1), 3);
+  EXPECT_DOUBLE_EQ(dim.value("level", 0.0), 0.2);
+  const nlohmann::json undark = LensEvent(temp / "dark", "undark");
+  EXPECT_NEAR(undark.value("time", 0.0), start + 0.55, 1e-6);
+  EXPECT_EQ(undark.value("frame", -1), 6);
+  EXPECT_FALSE(undark.contains("person"));
 }
 
 TEST(SequenceWriter, ShippedLoopKidnapAndRevisitScenariosRenderTheOfficeInTheirFirstFrames) {
