@@ -1,5 +1,6 @@
 // End-to-end tests of `hoidslam bench`: the direct bench, the same sweep planned and run through GNU parallel,
 // resuming, and failures that must show as failures, never as numbers.
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -9,6 +10,7 @@
 
 #include "cli_test_support.h"
 #include "hoidslam/core/sanitizers.h"
+#include "support/shared_data.h"
 #include "support/temp_dir.h"
 #include "support/text_file.h"
 
@@ -96,6 +98,16 @@ TEST(CliBench, APlannedSweepRunThroughGnuParallelGivesTheDirectBenchsTables) {
       EXPECT_LT(run["ate_rmse"].get<double>(), 0.05) << run.dump();
     }
   }
+  // Beside the ATE, the frames tracked; and the robustness of each sequence and mode over its runs.
+  const std::string tracked = std::to_string(kSweep.frames) + "/" + std::to_string(kSweep.frames) + " tracked)";
+  EXPECT_THAT(Table(direct_results, "ate")["rows"][0][1].get<std::string>(), ::testing::EndsWith(tracked));
+  const nlohmann::json& robustness = Table(direct_results, "robustness");
+  ASSERT_EQ(robustness["rows"].size(), 2U);
+  EXPECT_EQ(robustness["rows"][1][0], "walking_xyz");
+  EXPECT_EQ(robustness["rows"][1][1], "hoid2d");
+  EXPECT_EQ(robustness["rows"][1][2], std::to_string(kRuns));
+  EXPECT_EQ(robustness["rows"][1][7], "0 of 0");      // no relocalisation
+  EXPECT_EQ(robustness["rows"][1][10], "no return");  // a few seconds of walk: nothing to come back to
   const nlohmann::json& leaked = Table(direct_results, "leaked");
   EXPECT_EQ(leaked["header"], (nlohmann::json{"sequence", "none", "hoid2d"}));
   EXPECT_EQ(leaked["rows"][0][1], "100.0 %");
@@ -108,6 +120,7 @@ TEST(CliBench, APlannedSweepRunThroughGnuParallelGivesTheDirectBenchsTables) {
   const std::string page = testing::ReadText(scratch / "direct" / "report.html");
   EXPECT_THAT(page, HasSubstr("ATE RMSE (m) per filter mode"));
   EXPECT_THAT(page, HasSubstr("Exclusion quality"));
+  EXPECT_THAT(page, HasSubstr("Robustness over the runs"));
   EXPECT_THAT(page, HasSubstr("walking_xyz hoid2d"));
   EXPECT_NE(page.find("<svg"), std::string::npos);
 }
@@ -142,7 +155,44 @@ TEST(CliBench, FailuresAreRecordedAsFailuresAndResumeRunsOnlyWhatIsLeft) {
   const RunResult again = RunHoidslam(scratch, args);
   ASSERT_EQ(again.exit_status, 0) << again.err;
   EXPECT_THAT(again.err, HasSubstr("2 runs planned, 0 to run"));
-  EXPECT_THAT(again.out, ::testing::ContainsRegex("\\| walking_xyz \\| 0\\.0[0-9]{3} \\|"));
+  EXPECT_THAT(again.out, ::testing::ContainsRegex("\\| walking_xyz \\| 0\\.0[0-9]{3} \\([0-9]+/30 tracked\\) \\|"));
+}
+
+// The shared real recording by its name, with the fr1 camera, and random sequences rendered by `synth --random`:
+// planned only, nothing runs.
+TEST(CliBench, ANamedRecordingAndRandomSequencesArePlannedLikeTheOthers) {
+  HOIDSLAM_SHARED_PATH_OR_SKIP(recording, "data/tum/fr1_rpy");
+  HOIDSLAM_SHARED_PATH_OR_SKIP(model, "models/yolox_nano.onnx");
+  const testing::TempDir scratch;
+  const fs::path bench = scratch / "bench";
+  const RunResult plan = RunHoidslam(scratch, {"bench", "fr1_rpy", "--random", "2", "--seed", "5", "--random-duration",
+                                               "20", "--modes", "none,hoidplus", "--model", model.string(), "--runs",
+                                               "1", "--area-sweep", "none", "--depth-sweep", "none", "--plan", "--out",
+                                               bench.string()});
+  ASSERT_EQ(plan.exit_status, 0) << plan.err;
+  const nlohmann::json planned = nlohmann::json::parse(testing::ReadText(bench / "plan.json"));
+  ASSERT_EQ(planned["sequences"].size(), 3U);
+  EXPECT_EQ(planned["sequences"][0]["name"], "random-5");
+  EXPECT_EQ(planned["sequences"][1]["name"], "random-6");
+  EXPECT_EQ(planned["sequences"][2]["name"], "fr1_rpy");
+  EXPECT_EQ(fs::canonical(planned["sequences"][2]["path"].get<std::string>()), fs::canonical(recording));
+  EXPECT_EQ(fs::path(planned["sequences"][2]["settings"].get<std::string>()).filename(), "TUM1.yaml");
+  EXPECT_EQ(planned["sequences"][2]["problem"], "");
+
+  const std::string prepare = testing::ReadText(bench / "prepare.txt");
+  EXPECT_THAT(prepare, HasSubstr("synth --random 5 --random-duration 20"));
+  EXPECT_THAT(prepare, HasSubstr("synth --random 6 --random-duration 20"));
+  if (fs::is_directory(testing::SharedPath("data/textures"))) {
+    EXPECT_THAT(prepare, HasSubstr("--textures"));
+  }
+  // The recording has no detections file: hoidplus runs the detector on it; the random sequences bring their own.
+  std::istringstream jobs(testing::ReadText(bench / "jobs.txt"));
+  int count = 0;
+  for (std::string job; std::getline(jobs, job); ++count) {
+    const bool detector = job.find("fr1_rpy.hoidplus") != std::string::npos;
+    EXPECT_EQ(job.find("--model") != std::string::npos, detector) << job;
+  }
+  EXPECT_EQ(count, 6);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // `hoidslam bench`: filter modes × sequences × runs in one command, with the tables in the shape of the paper's
 // (docs/bench.md). Also writes the runs as job lists (--plan) for GNU parallel or Slurm, and builds the tables
 // from finished run folders (--collect).
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -15,6 +16,7 @@
 #include "hoidslam/core/error.h"
 #include "hoidslam/core/shipped_dir.h"
 #include "hoidslam/core/interrupt.h"
+#include "hoidslam/report/table.h"
 
 namespace hoidslam::apps {
 namespace {
@@ -28,6 +30,8 @@ const std::vector<std::string> kDefaultScenarios = {
 struct BenchArgs {
   std::vector<std::string> folders;
   std::vector<std::string> scenarios;
+  std::size_t random = 0;
+  std::uint64_t seed = 1;
   std::vector<std::string> modes;
   std::string area_sweep = "0.2,0.3,0.4,0.5";
   std::string depth_sweep = "0.1,0.2,0.3,0.5";
@@ -64,9 +68,13 @@ std::vector<double> ParseSweep(const std::string& text, const std::string& param
 
 fs::path SelfPath() { return fs::canonical("/proc/self/exe"); }
 
-// The ATE table, and the closing line naming what was written (report.html only when it was).
+// The ATE table, the distribution over the random sequences when there were any, and the closing line naming what
+// was written (report.html only when it was).
 void PrintOutcome(const bench::BenchOutcome& outcome, bool report_written) {
   fmt::print("{}\n", bench::FindTable(outcome.tables, "ate")->ToMarkdown());
+  if (const report::Table* random = bench::FindTable(outcome.tables, "random")) {
+    fmt::print("{}\n", random->ToMarkdown());
+  }
   fmt::print("wrote {}/ (tables.md, tables/*.csv, results.json, {}runs/)\n", outcome.plan.folder.string(),
              report_written ? "report.html, " : "");
 }
@@ -83,9 +91,18 @@ void RunBenchCommand(const BenchArgs& args) {
   request.options.area_sweep = ParseSweep(args.area_sweep, "--area-sweep");
   request.options.depth_sweep = ParseSweep(args.depth_sweep, "--depth-sweep");
   request.scenarios = args.scenarios;
-  if (request.scenarios.empty() && args.folders.empty()) request.scenarios = kDefaultScenarios;
+  if (request.scenarios.empty() && args.folders.empty() && args.random == 0) request.scenarios = kDefaultScenarios;
   if (request.scenarios == std::vector<std::string>{"none"}) request.scenarios.clear();
-  for (const std::string& folder : args.folders) request.folders.emplace_back(folder);
+  request.random = args.random;
+  request.random_seed = args.seed;
+  const fs::path shared = bench::SharedDataDir();
+  // Random scenes are dressed in the shared photographs when there are any, as users' rooms would be.
+  if (args.random > 0 && fs::is_directory(shared / "data" / "textures")) {
+    request.options.textures = shared / "data" / "textures";
+  }
+  for (const std::string& folder : args.folders) {
+    request.folders.push_back(bench::ResolveSequenceFolder(folder, shared));
+  }
   request.settings = args.settings;
   request.config_dir = core::ShippedDir() / "config";
   request.sequences_dir = args.sequences_dir;
@@ -120,15 +137,28 @@ void AddBenchCommand(CLI::App& app) {
   CLI::App* command = app.add_subcommand(
       "bench",
       "Filter modes × sequences × runs as parallel processes, with tables like the paper's: ATE per mode, 2D vs 3D, "
-      "the interaction-area and depth-threshold sweeps, RPE, frames lost, time per stage and exclusion quality "
-      "(docs/bench.md)");
-  command->add_option("sequences", args->folders, "TUM / Bonn sequence folders to run besides (or instead of) the "
-                                                  "synthetic scenarios");
+      "the interaction-area and depth-threshold sweeps, RPE, frames lost, robustness (frames tracked, false "
+      "relocalisations, loops and merges, loop recall), time per stage and exclusion quality (docs/bench.md)");
+  command->add_option("sequences", args->folders,
+                      "TUM / Bonn sequence folders to run besides (or instead of) the synthetic scenarios, or names "
+                      "of the shared real recordings (fr1_rpy: $HOIDSLAM_SHARED_DIR/data/tum/fr1_rpy)");
   command->add_option("--scenarios", args->scenarios,
                       fmt::format("Shipped synthetic scenarios to render and run (default without folders: {}; none: "
                                   "no scenario)",
                                   fmt::join(kDefaultScenarios, ", ")))
       ->delimiter(',');
+  CLI::Option* random =
+      command->add_option("--random", args->random,
+                          "Also render N random sequences (hoidslam synth --random) random-<seed> and run them like "
+                          "the scenarios; the tables end with their distribution")
+          ->capture_default_str();
+  command->add_option("--seed", args->seed, "The first random sequence's seed; the others follow it")
+      ->capture_default_str()
+      ->needs(random);
+  command->add_option("--random-duration", args->options.random_duration,
+                      "Seconds of camera time of each random sequence (0 = synth's own)")
+      ->capture_default_str()
+      ->needs(random);
   command->add_option("--modes", args->modes,
                       "Filter modes (default: none,person,classes,hoid2d,hoid3d,oracle; also hoidplus and its parts alone, e.g. "
                       "hoidplus:depth; oracle only where masks exist)")

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstdlib>
 #include <optional>
 #include <fstream>
 #include <thread>
@@ -49,8 +51,10 @@ void PrepareFolder(const BenchRequest& request) {
   fs::create_directories(folder / "runs");
 }
 
-std::string ScenarioFolderName(const std::string& scenario, const BenchOptions& options) {
-  std::string name = scenario;
+// Where a rendered sequence goes: its name, and what makes it differ from the full rendering.
+std::string RenderedFolderName(const BenchSequence& sequence, const BenchOptions& options) {
+  std::string name = sequence.name;
+  if (sequence.random_seed && options.random_duration > 0) name += fmt::format("-d{}", options.random_duration);
   if (options.synth_frames > 0) name += fmt::format("-f{}", options.synth_frames);
   if (options.synth_frame_step > 1) name += fmt::format("-s{}", options.synth_frame_step);
   return name;
@@ -61,15 +65,21 @@ std::vector<BenchSequence> RequestedSequences(const BenchRequest& request) {
   const fs::path sequences_dir =
       fs::absolute(request.sequences_dir.empty() ? request.folder / "sequences" : request.sequences_dir);
   std::vector<BenchSequence> sequences;
-  const core::HoidOptions defaults;  // scenarios run with run's default settings
-  for (const std::string& scenario : request.scenarios) {
+  const core::HoidOptions defaults;  // scenarios, shipped and random, run with run's default settings (TUM fr3)
+  const auto add_rendered = [&](std::string name, std::string scenario, std::optional<std::uint64_t> seed) {
     BenchSequence& sequence = sequences.emplace_back();
-    sequence.name = scenario;
-    sequence.path = sequences_dir / ScenarioFolderName(scenario, request.options);
-    sequence.scenario = scenario;
+    sequence.name = std::move(name);
+    sequence.scenario = std::move(scenario);
+    sequence.random_seed = seed;
+    sequence.path = sequences_dir / RenderedFolderName(sequence, request.options);
     sequence.has_masks = true;
     sequence.min_interaction_area = defaults.min_interaction_area;
     sequence.depth_threshold = defaults.depth_threshold;
+  };
+  for (const std::string& scenario : request.scenarios) add_rendered(scenario, scenario, std::nullopt);
+  for (std::size_t k = 0; k < request.random; ++k) {
+    const std::uint64_t seed = request.random_seed + k;
+    add_rendered(fmt::format("random-{}", seed), "", seed);
   }
   for (const fs::path& folder : request.folders) {
     std::string name = io::NormalFolder(folder).filename().string();
@@ -91,7 +101,7 @@ void RenderScenarios(const Plan& plan, std::vector<BenchSequence>& sequences, st
   std::vector<Job> renders;
   std::vector<std::size_t> rendered;
   for (std::size_t s = 0; s < sequences.size(); ++s) {
-    if (sequences[s].scenario.empty() || fs::exists(sequences[s].path / "rgb.txt")) continue;
+    if (!sequences[s].Rendered() || fs::exists(sequences[s].path / "rgb.txt")) continue;
     fs::create_directories(sequences[s].path.parent_path());
     const fs::path log = sequences[s].path.string() + ".log";
     fs::remove(log);
@@ -109,9 +119,10 @@ void RenderScenarios(const Plan& plan, std::vector<BenchSequence>& sequences, st
     }
   }, stop_requested);
   for (BenchSequence& sequence : sequences) {
-    if (sequence.scenario.empty() || !sequence.problem.empty()) continue;
+    if (!sequence.Rendered() || !sequence.problem.empty()) continue;
     BenchSequence inspected = InspectSequence(sequence.name, sequence.path, sequence.settings);
     inspected.scenario = sequence.scenario;
+    inspected.random_seed = sequence.random_seed;
     sequence = inspected;
   }
 }
@@ -120,7 +131,7 @@ void WritePlanFiles(const Plan& plan) {
   WriteText(plan.folder / "plan.json", PlanToJson(plan).dump(2) + "\n");
   std::string prepare;
   for (const BenchSequence& sequence : plan.sequences) {
-    if (sequence.scenario.empty()) continue;
+    if (!sequence.Rendered()) continue;
     fs::create_directories(sequence.path.parent_path());
     const std::string log = sequence.path.string() + ".log";
     // Rendering a sequence that is already there is skipped, so the list can run again after a failure.
@@ -175,17 +186,33 @@ std::string CpuModel() {
 fs::path SettingsForFolder(const fs::path& folder, const fs::path& config_dir) {
   std::string name = io::NormalFolder(folder).filename().string();
   std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return std::tolower(c); });
+  // TUM names its downloads rgbd_dataset_freiburg1_rpy; the shared recordings and many users shorten it to fr1_rpy.
   for (const auto& [key, file] : {std::pair{"freiburg1", "TUM1.yaml"}, std::pair{"freiburg2", "TUM2.yaml"},
-                                  std::pair{"freiburg3", "TUM3.yaml"}, std::pair{"bonn", "Bonn.yaml"}}) {
+                                  std::pair{"freiburg3", "TUM3.yaml"}, std::pair{"fr1_", "TUM1.yaml"},
+                                  std::pair{"fr2_", "TUM2.yaml"}, std::pair{"fr3_", "TUM3.yaml"},
+                                  std::pair{"bonn", "Bonn.yaml"}}) {
     if (name.find(key) != std::string::npos && fs::exists(config_dir / file)) return config_dir / file;
   }
   return {};
 }
 
+fs::path SharedDataDir() {
+  if (const char* shared = std::getenv("HOIDSLAM_SHARED_DIR"); shared != nullptr && *shared != '\0') return shared;
+  return HOIDSLAM_SHARED_DIR_DEFAULT;
+}
+
+fs::path ResolveSequenceFolder(const std::string& argument, const fs::path& shared_dir) {
+  if (fs::exists(argument)) return argument;
+  const fs::path recording = shared_dir / "data" / "tum" / argument;
+  // Only a plain name is looked up, never a path that happens to be missing.
+  if (fs::path(argument).has_parent_path() || !fs::is_directory(recording)) return argument;
+  return recording;
+}
+
 BenchOutcome RunBench(const BenchRequest& request, const std::function<bool()>& stop_requested) {
   request.options.Check();
-  if (request.scenarios.empty() && request.folders.empty()) {
-    throw core::InputError::ForParameter("--scenarios", "nothing to run: give scenarios or sequence folders");
+  if (request.scenarios.empty() && request.folders.empty() && request.random == 0) {
+    throw core::InputError::ForParameter("--scenarios", "nothing to run: give scenarios, --random or sequence folders");
   }
   PrepareFolder(request);
   std::vector<BenchSequence> sequences = RequestedSequences(request);
@@ -232,8 +259,9 @@ BenchOutcome RunBench(const BenchRequest& request, const std::function<bool()>& 
 
 Plan WriteBenchPlan(const BenchRequest& request) {
   request.options.Check();
-  if (request.scenarios.empty() && request.folders.empty()) {
-    throw core::InputError::ForParameter("--scenarios", "nothing to plan: give scenarios or sequence folders");
+  if (request.scenarios.empty() && request.folders.empty() && request.random == 0) {
+    throw core::InputError::ForParameter("--scenarios",
+                                         "nothing to plan: give scenarios, --random or sequence folders");
   }
   PrepareFolder(request);
   Plan plan = MakePlan(request.options, RequestedSequences(request), request.binary, request.folder);
@@ -384,6 +412,11 @@ std::string RenderBenchReport(const BenchOutcome& outcome) {
   section("The paper's tables", "ATE statistics (Tables 3 and 5), 2D against 3D (Table 6) and the sweeps (Table 2).",
           {"ate_statistics", "hoid_2d_3d", "area_sweep", "depth_sweep"});
   section("Drift and lost frames", "", {"rpe_translation", "rpe_rotation", "lost"});
+  section("Robustness",
+          "Over the runs of each sequence and mode, and over the random sequences: how often tracking held, how far "
+          "the ATE spread, whether a relocalisation, loop or merge was false, and how many returns to a mapped place "
+          "ended with the map joined there (loop recall).",
+          {"robustness", "random"});
   section("Exclusion quality",
           "Against the ground-truth moving masks: leaked is the share of keypoints on moving things kept for "
           "tracking, wasted the share of static keypoints dropped.",

@@ -4,6 +4,7 @@
 // and results from the run folders. docs/bench.md describes the folder and the tables.
 
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -18,6 +19,8 @@ namespace hoidslam::bench {
 struct BenchRequest {
   BenchOptions options;
   std::vector<std::string> scenarios;          // shipped synthetic scenarios, rendered on demand
+  std::size_t random = 0;                      // random sequences random-<seed>, rendered on demand ...
+  std::uint64_t random_seed = 1;               // ... with the seeds random_seed, random_seed + 1, ...
   std::vector<std::filesystem::path> folders;  // TUM / Bonn sequence folders
   std::filesystem::path settings;     // settings for the folders; empty: picked by folder name from config_dir
   std::filesystem::path config_dir;   // the shipped settings files (TUM1/2/3.yaml, Bonn.yaml)
@@ -29,8 +32,17 @@ struct BenchRequest {
   bool force = false;                 // start over in a non-empty folder (rendered sequences are kept)
 };
 
-// The shipped settings file for a TUM / Bonn folder name (freiburg1/2/3, bonn), or empty when none fits.
+// The shipped settings file for a TUM / Bonn folder name (freiburg1/2/3 or fr1_/fr2_/fr3_, bonn), or empty when none
+// fits.
 std::filesystem::path SettingsForFolder(const std::filesystem::path& folder, const std::filesystem::path& config_dir);
+
+// The shared data folder (real recordings, textures, models): $HOIDSLAM_SHARED_DIR when set, else the folder
+// configured at build time (`shared` beside the checkout). Not checked for existence.
+std::filesystem::path SharedDataDir();
+
+// A sequence as the command line names it: a folder that exists, else the recording of that name among the shared
+// real ones (`fr1_rpy`: <shared_dir>/data/tum/fr1_rpy), else as given (the bench then reports it missing).
+std::filesystem::path ResolveSequenceFolder(const std::string& argument, const std::filesystem::path& shared_dir);
 
 struct BenchOutcome {
   Plan plan;

@@ -63,6 +63,9 @@ void BenchOptions::Check() const {
   }
   if (!(detector_latency_ms >= 0.0)) throw core::InputError::ForParameter("--detector-latency", "must be >= 0 ms");
   if (synth_frame_step < 1) throw core::InputError::ForParameter("--synth-frame-step", "must be at least 1");
+  if (!std::isfinite(random_duration) || random_duration < 0.0) {
+    throw core::InputError::ForParameter("--random-duration", "must be >= 0 seconds");
+  }
   if (!(timeout_seconds >= 0.0)) throw core::InputError::ForParameter("--timeout", "must be >= 0 seconds");
   if (!model.empty() && !fs::is_regular_file(model)) {
     throw core::InputError::ForParameter("--model", fmt::format("{}: no such file", model.string()));
@@ -101,7 +104,7 @@ std::vector<std::string> Plan::RunCommand(const RunSpec& spec) const {
   if (options.detector_latency_ms > 0) {
     command.insert(command.end(), {"--detector-latency", Number(options.detector_latency_ms)});
   }
-  const bool has_detections = fs::exists(sequence.path / "detections.jsonl") || !sequence.scenario.empty();
+  const bool has_detections = fs::exists(sequence.path / "detections.jsonl") || sequence.Rendered();
   if (!options.model.empty() && !has_detections && variant.mode != "none" && variant.mode != "oracle") {
     command.insert(command.end(), {"--model", options.model.string()});
   }
@@ -110,9 +113,18 @@ std::vector<std::string> Plan::RunCommand(const RunSpec& spec) const {
 }
 
 std::vector<std::string> Plan::PrepareCommand(const BenchSequence& sequence) const {
-  if (sequence.scenario.empty()) return {};
-  std::vector<std::string> command = {binary.string(), "synth", "--scenario", sequence.scenario,
-                                      "--out", sequence.path.string()};
+  if (!sequence.Rendered()) return {};
+  std::vector<std::string> command = {binary.string(), "synth"};
+  if (sequence.random_seed) {
+    command.insert(command.end(), {"--random", std::to_string(*sequence.random_seed)});
+    if (options.random_duration > 0) {
+      command.insert(command.end(), {"--random-duration", Number(options.random_duration)});
+    }
+    if (!options.textures.empty()) command.insert(command.end(), {"--textures", options.textures.string()});
+  } else {
+    command.insert(command.end(), {"--scenario", sequence.scenario});
+  }
+  command.insert(command.end(), {"--out", sequence.path.string()});
   if (options.synth_frames > 0) command.insert(command.end(), {"--frames", std::to_string(options.synth_frames)});
   if (options.synth_frame_step > 1) {
     command.insert(command.end(), {"--frame-step", std::to_string(options.synth_frame_step)});
@@ -202,6 +214,7 @@ nlohmann::json PlanToJson(const Plan& plan) {
     sequences.push_back({{"name", s.name},
                          {"path", s.path.string()},
                          {"scenario", s.scenario},
+                         {"random_seed", s.random_seed ? nlohmann::json(*s.random_seed) : nlohmann::json()},
                          {"settings", s.settings.string()},
                          {"problem", s.problem},
                          {"has_masks", s.has_masks},
@@ -230,6 +243,8 @@ nlohmann::json PlanToJson(const Plan& plan) {
             {"frames", o.frames},
             {"synth_frames", o.synth_frames},
             {"synth_frame_step", o.synth_frame_step},
+            {"random_duration", o.random_duration},
+            {"textures", o.textures.string()},
             {"deterministic", o.deterministic},
             {"realtime", o.realtime},
             {"pace", o.pace},
@@ -254,6 +269,9 @@ Plan PlanFromJson(const nlohmann::json& json, const fs::path& file) {
     plan.options.frames = o.at("frames").get<std::size_t>();
     plan.options.synth_frames = o.at("synth_frames").get<std::size_t>();
     plan.options.synth_frame_step = o.at("synth_frame_step").get<int>();
+    // Benches planned before random sequences existed rendered none.
+    plan.options.random_duration = o.value("random_duration", 0.0);
+    plan.options.textures = o.value("textures", std::string());
     plan.options.deterministic = o.at("deterministic").get<bool>();
     // Benches planned before the real-time mode existed ran synchronously.
     plan.options.realtime = o.value("realtime", false);
@@ -269,6 +287,9 @@ Plan PlanFromJson(const nlohmann::json& json, const fs::path& file) {
       sequence.name = s.at("name").get<std::string>();
       sequence.path = s.at("path").get<std::string>();
       sequence.scenario = s.at("scenario").get<std::string>();
+      if (s.contains("random_seed") && !s["random_seed"].is_null()) {
+        sequence.random_seed = s["random_seed"].get<std::uint64_t>();
+      }
       sequence.settings = s.at("settings").get<std::string>();
       sequence.problem = s.at("problem").get<std::string>();
       sequence.has_masks = s.at("has_masks").get<bool>();

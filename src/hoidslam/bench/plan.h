@@ -12,6 +12,7 @@
 //   results.json, tables.md, tables/*.csv, report.html
 
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -21,16 +22,20 @@
 
 namespace hoidslam::bench {
 
-// A sequence of the bench: a shipped synthetic scenario rendered on demand, or a TUM / Bonn folder.
+// A sequence of the bench: a shipped synthetic scenario or a random one rendered on demand, or a TUM / Bonn folder.
 struct BenchSequence {
   std::string name;                 // its row in the tables
   std::filesystem::path path;       // the sequence folder (for a scenario: where it is rendered)
   std::string scenario;             // non-empty: rendered with `hoidslam synth --scenario <scenario>`
+  std::optional<std::uint64_t> random_seed;  // set: rendered with `hoidslam synth --random <seed>`
   std::filesystem::path settings;   // `run --settings`; empty: run's default (TUM fr3)
   std::string problem;              // why it cannot be run (missing, broken); it then has no runs
   bool has_masks = false;           // ground-truth moving masks (mask/): oracle and exclusion quality
   double min_interaction_area = 0;  // the HOID values its settings give, so sweeps reuse the plain runs
   double depth_threshold = 0;
+
+  // Rendered by the bench (a scenario or a random sequence), not a folder the user gave.
+  bool Rendered() const { return !scenario.empty() || random_seed.has_value(); }
 };
 
 struct BenchOptions {
@@ -42,6 +47,8 @@ struct BenchOptions {
   std::size_t frames = 0;         // `run --frames`: only the first N frames (0 = all)
   std::size_t synth_frames = 0;   // `synth --frames` for rendered scenarios (0 = all)
   int synth_frame_step = 1;       // `synth --frame-step`
+  double random_duration = 0;     // `synth --random-duration` (seconds) for random sequences (0 = synth's own)
+  std::filesystem::path textures;  // `synth --textures` for random sequences (empty = synth's procedural ones)
   bool deterministic = false;     // `run --deterministic`: identical output on every run
   bool realtime = false;          // `run --realtime`: the detector in its own thread
   bool pace = false;              // `run --pace`: frames at their recorded rate, as from a live camera
@@ -89,7 +96,7 @@ struct Plan {
   std::filesystem::path RunLog(const RunSpec& spec) const { return folder / "runs" / (spec.id + ".log"); }
   // The `hoidslam run` command of one run, as arguments.
   std::vector<std::string> RunCommand(const RunSpec& spec) const;
-  // The `hoidslam synth` command that renders a scenario sequence (empty for a folder the user gave).
+  // The `hoidslam synth` command that renders a scenario or random sequence (empty for a folder the user gave).
   std::vector<std::string> PrepareCommand(const BenchSequence& sequence) const;
   // The variant a sweep value is measured by: the plain mode's runs when the value is what the sequence's
   // settings give anyway, else the swept variant. nullopt when the plan has neither.

@@ -162,6 +162,24 @@ TEST(Plan, PrepareCommandRendersTheScenario) {
                           "300", "--frame-step", "2"));
 }
 
+TEST(Plan, PrepareCommandRendersARandomSequenceWithTheSharedTextures) {
+  BenchOptions options;
+  options.synth_frames = 300;
+  options.random_duration = 45.5;
+  options.textures = "/shared/data/textures";
+  BenchSequence random = SyntheticSequence("random-3");
+  random.scenario.clear();
+  random.random_seed = 3;
+  const Plan plan = MakePlan(options, {random}, "/bin/hoidslam", "/b");
+  EXPECT_TRUE(plan.sequences[0].Rendered());
+  EXPECT_THAT(plan.PrepareCommand(plan.sequences[0]),
+              ElementsAre("/bin/hoidslam", "synth", "--random", "3", "--random-duration", "45.5", "--textures",
+                          "/shared/data/textures", "--out", "/b/sequences/random-3", "--frames", "300"));
+  options = {};
+  options.random_duration = -1;
+  EXPECT_THROW(MakePlan(options, {random}, "/bin/hoidslam", "/b"), core::InputError);
+}
+
 TEST(Plan, JsonRoundTripKeepsEveryRunAndCommand) {
   BenchOptions options;
   options.runs = 3;

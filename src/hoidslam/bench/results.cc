@@ -1,6 +1,9 @@
 #include "hoidslam/bench/results.h"
 
+#include <algorithm>
 #include <fstream>
+#include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -79,10 +82,49 @@ RunResult ReadRunResult(const Plan& plan, const RunSpec& spec) {
     result.false_relocalizations = Optional(s, Pointer("/evaluation/relocalizations/false"));
     result.loops = Optional(s, Pointer("/evaluation/loops/count"));
     result.false_loops = Optional(s, Pointer("/evaluation/loops/false"));
+    result.merges = Optional(s, Pointer("/evaluation/merges/count"));
+    result.false_merges = Optional(s, Pointer("/evaluation/merges/false"));
+    result.return_events = Optional(s, Pointer("/evaluation/loop_recall/events"));
+    result.returns_recalled = Optional(s, Pointer("/evaluation/loop_recall/recalled"));
+    result.closures_judged = Optional(s, Pointer("/evaluation/loop_recall/closures"));
+    result.closures_confirmed = Optional(s, Pointer("/evaluation/loop_recall/confirmed"));
   } catch (const nlohmann::json::exception& e) {
     throw core::InputError::InFile(summary_path, fmt::format("not a run summary: {}", e.what()));
   }
+  result.covered = CoveredFrames(plan.sequences[spec.sequence].path / "events.jsonl", result.frames);
   return result;
+}
+
+std::size_t CoveredFrames(const fs::path& events, std::size_t frames) {
+  std::ifstream in(events);
+  if (!in) return 0;
+  std::vector<std::pair<std::size_t, bool>> changes;  // frame, covered from it on
+  std::size_t number = 0;
+  for (std::string line; std::getline(in, line);) {
+    ++number;
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    try {
+      const nlohmann::json event = nlohmann::json::parse(line);
+      const std::string action = event.value("action", "");
+      if (action == "cover_lens" || action == "uncover_lens") {
+        changes.emplace_back(event.at("frame").get<std::size_t>(), action == "cover_lens");
+      }
+    } catch (const nlohmann::json::exception& e) {
+      throw core::InputError::AtLine(events, number, fmt::format("not an event: {}", e.what()));
+    }
+  }
+  std::stable_sort(changes.begin(), changes.end(), [](const auto& l, const auto& r) { return l.first < r.first; });
+  std::size_t covered = 0;
+  bool covering = false;
+  std::size_t since = 0;  // while covering: the frame the lens has been covered from
+  for (const auto& [frame, cover] : changes) {
+    if (cover == covering) continue;  // covered again, or uncovered while open
+    if (cover) since = frame;
+    if (!cover) covered += std::min(frame, frames) - std::min(since, frames);
+    covering = cover;
+  }
+  if (covering) covered += frames - std::min(since, frames);
+  return covered;
 }
 
 std::vector<RunResult> CollectResults(const Plan& plan) {
@@ -112,6 +154,13 @@ nlohmann::json RunResultToJson(const RunResult& r) {
                {"false_relocalizations", optional(r.false_relocalizations)},
                {"loops", optional(r.loops)},
                {"false_loops", optional(r.false_loops)},
+               {"merges", optional(r.merges)},
+               {"false_merges", optional(r.false_merges)},
+               {"return_events", optional(r.return_events)},
+               {"returns_recalled", optional(r.returns_recalled)},
+               {"closures_judged", optional(r.closures_judged)},
+               {"closures_confirmed", optional(r.closures_confirmed)},
+               {"covered", r.covered},
                {"median_ms",
                 {{"load", r.median_ms.load},
                  {"extract", r.median_ms.extract},

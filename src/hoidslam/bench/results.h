@@ -3,6 +3,7 @@
 // and log, so runs made by `hoidslam bench`, GNU parallel or a Slurm array are collected the same way.
 
 #include <cstddef>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -36,9 +37,19 @@ struct RunResult {
   std::optional<double> leaked, wasted;  // exclusion quality, shares in [0, 1], on sequences with masks
   // Frames relocalisation found, and of those the false ones (eval/pose_check.h); absent without ground truth.
   std::optional<double> relocalizations, false_relocalizations;
-  // Loops closed, and of those the false ones (their two ends' relative pose against the ground truth's).
-  std::optional<double> loops, false_loops;
+  // Loops closed, and of those the false ones (their two ends' relative pose against the ground truth's); the
+  // same for maps merged.
+  std::optional<double> loops, false_loops, merges, false_merges;
+  // Loop recall (eval/loop_recall.h): the returns to a mapped place and those recalled, the loops and merges judged
+  // and those the ground truth confirmed; absent without ground truth (and in runs made before it was measured).
+  std::optional<double> return_events, returns_recalled, closures_judged, closures_confirmed;
+  std::size_t covered = 0;  // frames of the run with the lens covered (the sequence's events.jsonl)
 };
+
+// Frames in [0, frames) the lens was covered in, by the `cover_lens` / `uncover_lens` lines of a synthetic
+// sequence's events.jsonl (each with `frame`, the line of rgb.txt; a stretch not uncovered lasts to the end). 0
+// when the file is absent. Throws InputError naming the file and line of a malformed line.
+std::size_t CoveredFrames(const std::filesystem::path& events, std::size_t frames);
 
 // Reads runs/<id>/summary.json, or the log when the folder is absent. Throws InputError naming summary.json
 // when it exists but is not one `hoidslam run` writes.

@@ -17,7 +17,62 @@ using Value = std::function<std::optional<double>(const RunResult&)>;
 
 double Median(std::vector<double> values) { return eval::ComputeStatistics(values).median; }
 
+// The q-quantile of `values` (not empty) by linear interpolation between the closest ranks, as numpy.percentile.
+double Quantile(std::vector<double> values, double q) {
+  std::sort(values.begin(), values.end());
+  const double position = q * static_cast<double>(values.size() - 1);
+  const auto below = static_cast<std::size_t>(std::floor(position));
+  const std::size_t above = std::min(below + 1, values.size() - 1);
+  return values[below] + (position - static_cast<double>(below)) * (values[above] - values[below]);
+}
+
 const Value kAteRmse = [](const RunResult& r) { return r.ate_rmse; };
+
+// A run whose ATE is more than this many times its cell's median lost its map once: a failure, not noise.
+constexpr double kJumpFactor = 3.0;
+// A run tracking fewer than this share of the frames it could see (the lens uncovered) lost tracking for real.
+constexpr double kMinTrackedShare = 0.99;
+
+using Member = std::optional<double> RunResult::*;
+
+// False ones of all, summed over `runs`: "1 of 3"; "–" when no run could judge them (no ground truth).
+std::string FalseOfAll(const std::vector<const RunResult*>& runs, Member all, Member wrong) {
+  double total = 0.0, false_ones = 0.0;
+  bool judged = false;
+  for (const RunResult* r : runs) {
+    if (!(r->*all)) continue;
+    judged = true;
+    total += *(r->*all);
+    false_ones += (r->*wrong).value_or(0.0);
+  }
+  return judged ? fmt::format("{:g} of {:g}", false_ones, total) : "–";
+}
+
+// A share pooled over `runs` (the parts summed over the wholes summed, so a run with many events weighs more than
+// one with few): "83 % (5 of 6)"; `nothing` when the wholes sum to 0 (a share of nothing is no 100 %), "–" when no
+// run measured it.
+std::string Pooled(const std::vector<const RunResult*>& runs, Member part, Member whole, const std::string& nothing) {
+  double parts = 0.0, wholes = 0.0;
+  bool measured = false;
+  for (const RunResult* r : runs) {
+    if (!(r->*part) || !(r->*whole)) continue;
+    measured = true;
+    parts += *(r->*part);
+    wholes += *(r->*whole);
+  }
+  if (!measured) return "–";
+  if (wholes == 0.0) return nothing;
+  return fmt::format("{:.0f} % ({:g} of {:g})", 100.0 * parts / wholes, parts, wholes);
+}
+
+// Frames tracked of all, per run, as a share; runs without frames left out.
+std::vector<double> TrackedShares(const std::vector<const RunResult*>& runs) {
+  std::vector<double> shares;
+  for (const RunResult* r : runs) {
+    if (r->frames > 0) shares.push_back(static_cast<double>(r->tracked) / static_cast<double>(r->frames));
+  }
+  return shares;
+}
 
 // The runs of one sequence and one variant.
 struct Group {
@@ -49,9 +104,10 @@ class Grid {
     return Median(values);
   }
 
-  // One cell: the formatted median with "(k/n)" when runs are missing, or why there is no number.
+  // One cell: the formatted median (with the frames tracked when `tracked`) and "(k/n)" when runs are missing, or
+  // why there is no number.
   std::string Cell(std::size_t sequence, std::optional<std::size_t> variant, const Value& value,
-                   const std::function<std::string(double)>& format) const {
+                   const std::function<std::string(double)>& format, bool tracked = false) const {
     if (!plan_.sequences[sequence].problem.empty()) return "missing";
     if (!variant) return "–";
     const Group& group = groups_[sequence][*variant];
@@ -69,7 +125,19 @@ class Grid {
       });
       return none_scored ? "–" : "n/a";
     }
-    return format(*median) + Shortfall(sequence, *variant);
+    return format(*median) + (tracked ? Tracked(sequence, *variant) : "") + Shortfall(sequence, *variant);
+  }
+
+  // " (826/826 tracked)": the medians of the frames tracked and of the frames over the cell's finished runs, the
+  // runs its ATE is the median of. Not the tracked count of the median run: of an even count of runs the median
+  // ATE is no one run's.
+  std::string Tracked(std::size_t sequence, std::size_t variant) const {
+    std::vector<double> tracked, frames;
+    for (const RunResult* r : groups_[sequence][variant].ok) {
+      tracked.push_back(static_cast<double>(r->tracked));
+      frames.push_back(static_cast<double>(r->frames));
+    }
+    return tracked.empty() ? "" : fmt::format(" ({:g}/{:g} tracked)", Median(tracked), Median(frames));
   }
 
   // " (k/n)" when only k of the n planned runs finished, else empty.
@@ -140,12 +208,12 @@ report::Table PerMode(const Plan& plan, std::string title, const CellText& cell)
   return table;
 }
 
-// PerMode with one value per cell, and a last row with the median over the sequences (when there are several
-// and every one has a number).
+// PerMode with one value per cell (with the frames tracked when `tracked`), and a last row with the median over the
+// sequences (when there are several and every one has a number).
 report::Table PerMode(const Plan& plan, const Grid& grid, std::string title, const Value& value,
-                      const std::function<std::string(double)>& format) {
+                      const std::function<std::string(double)>& format, bool tracked = false) {
   report::Table table = PerMode(plan, std::move(title), [&](std::size_t s, std::size_t v) {
-    return grid.Cell(s, v, value, format);
+    return grid.Cell(s, v, value, format, tracked);
   });
   if (plan.sequences.size() < 2) return table;
   std::vector<std::string> row = {"median of the sequences"};
@@ -172,9 +240,120 @@ report::Table Sweep(const Plan& plan, const Grid& grid, const std::string& mode,
   for (std::size_t s = 0; s < plan.sequences.size(); ++s) {
     std::vector<std::string> row = {plan.sequences[s].name};
     for (const double value : values) {
-      row.push_back(grid.Cell(s, plan.SweepVariant(mode, value, is_area, plan.sequences[s]), kAteRmse, Metres));
+      row.push_back(grid.Cell(s, plan.SweepVariant(mode, value, is_area, plan.sequences[s]), kAteRmse, Metres, true));
     }
     table.rows.push_back(std::move(row));
+  }
+  return table;
+}
+
+// Per sequence and plain mode, over its runs: how often tracking held, how far the ATE spread, whether anything was
+// joined wrongly, and whether the returns were recalled.
+report::Table Robustness(const Plan& plan, const Grid& grid) {
+  report::Table table{
+      .title = "Robustness over the runs: frames tracked, ATE spread, false relocalisations, loops and merges, loop "
+               "recall and precision",
+      .note = RunsNote(plan, fmt::format("Of the {} run{} of each sequence and mode: tracked % the median and the "
+                                         "least; the ATE median and the largest ATE over it; false ones of all, "
+                                         "summed; loop recall (returns recalled of all) and precision (loops and "
+                                         "merges the ground truth confirms of all closed), pooled over the runs; no "
+                                         "return / no loop: nothing to count",
+                                         plan.options.runs, plan.options.runs == 1 ? "" : "s")),
+      .header = {"sequence", "mode", "runs", "tracked % (median)", "tracked % (min)", "ATE median (m)",
+                 "ATE max / median", "false relocalisations", "false loops", "false merges", "loop recall",
+                 "loop precision"},
+      .rows = {}};
+  for (std::size_t s = 0; s < plan.sequences.size(); ++s) {
+    for (const std::size_t v : PlainVariants(plan)) {
+      const Group& group = grid.group(s, v);
+      std::vector<std::string> row = {plan.sequences[s].name, plan.variants[v].Name()};
+      if (plan.sequences[s].problem.empty() && group.planned == 0) continue;  // not applicable (oracle)
+      if (!plan.sequences[s].problem.empty() || group.ok.empty()) {
+        row.resize(table.header.size(), grid.Cell(s, v, kAteRmse, Metres));  // missing, failed, not run
+        table.rows.push_back(std::move(row));
+        continue;
+      }
+      row.push_back(group.ok.size() == group.planned ? std::to_string(group.planned)
+                                                     : fmt::format("{} of {}", group.ok.size(), group.planned));
+      const std::vector<double> shares = TrackedShares(group.ok);
+      row.push_back(shares.empty() ? "–" : Percent(Median(shares)));
+      row.push_back(shares.empty() ? "–" : Percent(*std::min_element(shares.begin(), shares.end())));
+      if (const std::optional<double> median = grid.MedianOf(s, v, kAteRmse)) {
+        double largest = 0.0;
+        for (const RunResult* r : group.ok) largest = std::max(largest, *r->ate_rmse);
+        row.push_back(Metres(*median));
+        row.push_back(*median > 0.0 ? fmt::format("{:.2f}", largest / *median) : "–");
+      } else {
+        row.insert(row.end(), 2, grid.Cell(s, v, kAteRmse, Metres));  // says why not
+      }
+      row.push_back(FalseOfAll(group.ok, &RunResult::relocalizations, &RunResult::false_relocalizations));
+      row.push_back(FalseOfAll(group.ok, &RunResult::loops, &RunResult::false_loops));
+      row.push_back(FalseOfAll(group.ok, &RunResult::merges, &RunResult::false_merges));
+      row.push_back(Pooled(group.ok, &RunResult::returns_recalled, &RunResult::return_events, "no return"));
+      row.push_back(Pooled(group.ok, &RunResult::closures_confirmed, &RunResult::closures_judged, "no loop"));
+      table.rows.push_back(std::move(row));
+    }
+  }
+  return table;
+}
+
+// Over every random sequence and run of each plain mode: what a user meeting scenes like these would see.
+report::Table RandomDistribution(const Plan& plan, const Grid& grid, const std::vector<std::size_t>& random) {
+  report::Table table{
+      .title = fmt::format("Over {} random sequence{}: the distribution of the runs", random.size(),
+                           random.size() == 1 ? "" : "s"),
+      .note = RunsNote(plan, fmt::format("Every finished run of the random sequences, {} planned per sequence and "
+                                         "mode. Uncovered frames: those the lens was not covered in (events.jsonl); "
+                                         "a jump: a run whose ATE is more than {:g}× the median of its sequence's "
+                                         "runs; false ones of all and loop recall and precision pooled over the "
+                                         "runs; the 90th percentile interpolates between ranks (numpy's)",
+                                         plan.options.runs, kJumpFactor)),
+      .header = {"measure"},
+      .rows = {{"runs finished"},
+               {"tracked % (median / min)"},
+               {fmt::format("runs tracking under {:g} % of the uncovered frames", 100.0 * kMinTrackedShare)},
+               {"ATE RMSE median / 90th percentile (m)"},
+               {fmt::format("runs above {:g}× their sequence's median ATE", kJumpFactor)},
+               {"false relocalisations"},
+               {"false loops"},
+               {"false merges"},
+               {"loop recall"},
+               {"loop precision"}}};
+  for (const std::size_t v : PlainVariants(plan)) {
+    table.header.push_back(plan.variants[v].Name());
+    std::vector<const RunResult*> runs;
+    std::size_t planned = 0, under = 0, jumps = 0, judged = 0;
+    std::vector<double> ates;
+    for (const std::size_t s : random) {
+      const Group& group = grid.group(s, v);
+      planned += group.planned;
+      runs.insert(runs.end(), group.ok.begin(), group.ok.end());
+      const std::optional<double> median = grid.MedianOf(s, v, kAteRmse);
+      for (const RunResult* r : group.ok) {
+        const double uncovered = static_cast<double>(r->frames - std::min(r->covered, r->frames));
+        if (static_cast<double>(r->tracked) < kMinTrackedShare * uncovered) ++under;
+        if (!r->ate_rmse) continue;
+        ates.push_back(*r->ate_rmse);
+        if (!median) continue;
+        ++judged;
+        if (*r->ate_rmse > kJumpFactor * *median) ++jumps;
+      }
+    }
+    const std::vector<double> shares = TrackedShares(runs);
+    const std::vector<std::string> cells = {
+        fmt::format("{} of {}", runs.size(), planned),
+        shares.empty() ? "–"
+                       : fmt::format("{} / {}", Percent(Median(shares)),
+                                     Percent(*std::min_element(shares.begin(), shares.end()))),
+        fmt::format("{} of {}", under, runs.size()),
+        ates.empty() ? "–" : fmt::format("{} / {}", Metres(Median(ates)), Metres(Quantile(ates, 0.9))),
+        judged == 0 ? "–" : fmt::format("{} of {}", jumps, judged),
+        FalseOfAll(runs, &RunResult::relocalizations, &RunResult::false_relocalizations),
+        FalseOfAll(runs, &RunResult::loops, &RunResult::false_loops),
+        FalseOfAll(runs, &RunResult::merges, &RunResult::false_merges),
+        Pooled(runs, &RunResult::returns_recalled, &RunResult::return_events, "no return"),
+        Pooled(runs, &RunResult::closures_confirmed, &RunResult::closures_judged, "no loop")};
+    for (std::size_t i = 0; i < cells.size(); ++i) table.rows[i].push_back(cells[i]);
   }
   return table;
 }
@@ -207,7 +386,8 @@ std::vector<NamedTable> BuildTables(const Plan& plan, const std::vector<RunResul
 
   const Value mean = [](const RunResult& r) { return r.ate_mean; };
   const Value median = [](const RunResult& r) { return r.ate_median; };
-  tables.push_back({"ate", PerMode(plan, grid, "ATE RMSE (m) per filter mode", kAteRmse, Metres)});
+  tables.push_back({"ate", PerMode(plan, grid, "ATE RMSE (m) per filter mode, with the frames tracked", kAteRmse,
+                                   Metres, true)});
   tables.push_back({"ate_statistics",
                     PerMode(plan, "ATE RMSE / mean / median (m), as in the paper's Tables 3 and 5",
                             [&](std::size_t s, std::size_t v) {
@@ -217,8 +397,8 @@ std::vector<NamedTable> BuildTables(const Plan& plan, const std::vector<RunResul
                               if (!r || !a || !m || !plan.sequences[s].problem.empty()) {
                                 return grid.Cell(s, v, kAteRmse, Metres);  // says why there is no number
                               }
-                              return fmt::format("{} / {} / {}{}", Metres(*r), Metres(*a), Metres(*m),
-                                                 grid.Shortfall(s, v));
+                              return fmt::format("{} / {} / {}{}{}", Metres(*r), Metres(*a), Metres(*m),
+                                                 grid.Tracked(s, v), grid.Shortfall(s, v));
                             })});
 
   if (has_mode("hoid2d") && has_mode("hoid3d")) {
@@ -231,7 +411,8 @@ std::vector<NamedTable> BuildTables(const Plan& plan, const std::vector<RunResul
     for (std::size_t s = 0; s < plan.sequences.size(); ++s) {
       const std::optional<double> a = grid.MedianOf(s, v2, kAteRmse);
       const std::optional<double> b = grid.MedianOf(s, v3, kAteRmse);
-      table.rows.push_back({plan.sequences[s].name, grid.Cell(s, v2, kAteRmse, Metres), grid.Cell(s, v3, kAteRmse, Metres),
+      table.rows.push_back({plan.sequences[s].name, grid.Cell(s, v2, kAteRmse, Metres, true),
+                            grid.Cell(s, v3, kAteRmse, Metres, true),
                             a && b && plan.sequences[s].problem.empty() ? fmt::format("{:+.4f}", *b - *a) : "–"});
     }
     tables.push_back({"hoid_2d_3d", std::move(table)});
@@ -246,7 +427,6 @@ std::vector<NamedTable> BuildTables(const Plan& plan, const std::vector<RunResul
   }
 
   // A run that jumps is a failure, not noise: each cell's runs whose ATE is more than 3× the cell's median.
-  constexpr double kJumpFactor = 3.0;
   report::Table jumps = PerMode(
       plan, fmt::format("Runs whose ATE RMSE is more than {:g}× the median of their cell, of all", kJumpFactor),
       [&](std::size_t s, std::size_t v) {
@@ -278,17 +458,11 @@ std::vector<NamedTable> BuildTables(const Plan& plan, const std::vector<RunResul
                                     Count)});
   // Events checked against the ground truth, summed over the runs of each cell: one false one in any run is a
   // failure.
-  const auto false_of_all = [&](const std::string& title, std::optional<double> RunResult::*all,
-                                std::optional<double> RunResult::*wrong, const std::string& what) {
+  const auto false_of_all = [&](const std::string& title, Member all, Member wrong, const std::string& what) {
     const Value count = [all](const RunResult& r) { return r.*all; };
     report::Table table = PerMode(plan, title, [&](std::size_t s, std::size_t v) {
       if (!grid.MedianOf(s, v, count)) return grid.Cell(s, v, count, Count);  // says why not
-      double total = 0.0, false_ones = 0.0;
-      for (const RunResult* r : grid.group(s, v).ok) {
-        total += *(r->*all);
-        false_ones += (r->*wrong).value_or(0.0);
-      }
-      return fmt::format("{:g} of {:g}{}", false_ones, total, grid.Shortfall(s, v));
+      return FalseOfAll(grid.group(s, v).ok, all, wrong) + grid.Shortfall(s, v);
     });
     table.note = RunsNote(plan, fmt::format("Summed over the {} runs of each cell: a false {} in any of them is a "
                                             "failure", plan.options.runs, what));
@@ -304,6 +478,12 @@ std::vector<NamedTable> BuildTables(const Plan& plan, const std::vector<RunResul
                                                       "true relative pose) of all closed, over the runs",
                                                       limits.max_position_error, limits.max_rotation_error_deg),
                                           &RunResult::loops, &RunResult::false_loops, "loop")});
+  tables.push_back({"robustness", Robustness(plan, grid)});
+  std::vector<std::size_t> random;
+  for (std::size_t s = 0; s < plan.sequences.size(); ++s) {
+    if (plan.sequences[s].random_seed) random.push_back(s);
+  }
+  if (!random.empty()) tables.push_back({"random", RandomDistribution(plan, grid, random)});
 
   const bool any_masks = std::any_of(plan.sequences.begin(), plan.sequences.end(),
                                      [](const BenchSequence& s) { return s.has_masks && s.problem.empty(); });

@@ -81,9 +81,12 @@ TEST_F(BenchTables, AteCellsAreMediansAndSayWhatIsMissing) {
   const report::Table& ate = Find(tables_, "ate");
   EXPECT_THAT(ate.header, ElementsAre("sequence", "none", "hoid2d", "hoid3d", "oracle"));
   ASSERT_EQ(ate.rows.size(), 4U);
-  EXPECT_THAT(ate.rows[0], ElementsAre("walking_xyz", "0.1020", "0.0060", "0.0060", "0.0060"));
-  // Runs 1 and 3 of hoid2d finished: the median of 0.005 and 0.007.
-  EXPECT_THAT(ate.rows[1], ElementsAre("carry", "0.1020", "0.0060 (2/3)", "failed", "0.0060"));
+  // Beside each ATE the frames tracked: the median over the same runs (100, 100 and 98 of 100).
+  EXPECT_THAT(ate.rows[0], ElementsAre("walking_xyz", "0.1020 (100/100 tracked)", "0.0060 (100/100 tracked)",
+                                       "0.0060 (100/100 tracked)", "0.0060 (100/100 tracked)"));
+  // Runs 1 and 3 of hoid2d finished: the median of 0.005 and 0.007, of 100 and 98 frames tracked.
+  EXPECT_THAT(ate.rows[1], ElementsAre("carry", "0.1020 (100/100 tracked)", "0.0060 (99/100 tracked) (2/3)", "failed",
+                                       "0.0060 (100/100 tracked)"));
   EXPECT_THAT(ate.rows[2], ElementsAre("gone", "missing", "missing", "missing", "missing"));
   EXPECT_EQ(ate.rows[3][0], "median of the sequences");
   EXPECT_EQ(ate.rows[3][1], "–");  // not every sequence has a number
@@ -91,14 +94,16 @@ TEST_F(BenchTables, AteCellsAreMediansAndSayWhatIsMissing) {
 }
 
 TEST_F(BenchTables, StatisticsSweepsAndTwoAgainstThree) {
-  EXPECT_EQ(Find(tables_, "ate_statistics").rows[0][2], "0.0060 / 0.0054 / 0.0048");
+  EXPECT_EQ(Find(tables_, "ate_statistics").rows[0][2], "0.0060 / 0.0054 / 0.0048 (100/100 tracked)");
   EXPECT_EQ(Find(tables_, "ate_statistics").rows[1][3], "failed");
   const report::Table& sweep = Find(tables_, "area_sweep");
   EXPECT_THAT(sweep.header, ElementsAre("sequence", "0.3", "0.4"));
-  EXPECT_THAT(sweep.rows[0], ElementsAre("walking_xyz", "0.0080", "0.0060"));  // 0.4 is the plain hoid2d
+  EXPECT_THAT(sweep.rows[0], ElementsAre("walking_xyz", "0.0080 (100/100 tracked)",
+                                         "0.0060 (100/100 tracked)"));  // 0.4 is the plain hoid2d
   const report::Table& versus = Find(tables_, "hoid_2d_3d");
-  EXPECT_THAT(versus.rows[0], ElementsAre("walking_xyz", "0.0060", "0.0060", "+0.0000"));
-  EXPECT_THAT(versus.rows[1], ElementsAre("carry", "0.0060 (2/3)", "failed", "–"));
+  EXPECT_THAT(versus.rows[0],
+              ElementsAre("walking_xyz", "0.0060 (100/100 tracked)", "0.0060 (100/100 tracked)", "+0.0000"));
+  EXPECT_THAT(versus.rows[1], ElementsAre("carry", "0.0060 (99/100 tracked) (2/3)", "failed", "–"));
   for (const NamedTable& t : tables_) EXPECT_NE(t.name, "depth_sweep");  // none asked
 }
 
@@ -155,7 +160,8 @@ TEST(BuildTables, WhatARealRecordingCannotBeScoredOnIsNotApplicable) {
     results.push_back(sequence == "walking_xyz" ? Ok(0.01) : sequence == "walking_halfsphere" ? real(0.02) : unscored);
   }
   const std::vector<NamedTable> tables = BuildTables(plan, results);
-  EXPECT_THAT(Find(tables, "ate").rows[1], ElementsAre("walking_halfsphere", "0.0200", "0.0200"));
+  EXPECT_THAT(Find(tables, "ate").rows[1],
+              ElementsAre("walking_halfsphere", "0.0200 (100/100 tracked)", "0.0200 (100/100 tracked)"));
   EXPECT_THAT(Find(tables, "ate").rows[2], ElementsAre("no_groundtruth", "–", "–"));
   EXPECT_THAT(Find(tables, "ate_statistics").rows[2], ElementsAre("no_groundtruth", "–", "–"));
   EXPECT_THAT(Find(tables, "rpe_rotation").rows[2], ElementsAre("no_groundtruth", "–", "–"));
@@ -173,7 +179,8 @@ TEST(BuildTables, WhatARealRecordingCannotBeScoredOnIsNotApplicable) {
       BuildTables(real_only, std::vector<RunResult>(real_only.runs.size(), real(0.02)));
   EXPECT_EQ(FindTable(real_tables, "leaked"), nullptr);
   EXPECT_EQ(FindTable(real_tables, "wasted"), nullptr);
-  EXPECT_THAT(Find(real_tables, "ate").rows[0], ElementsAre("walking_halfsphere", "0.0200", "0.0200"));
+  EXPECT_THAT(Find(real_tables, "ate").rows[0],
+              ElementsAre("walking_halfsphere", "0.0200 (100/100 tracked)", "0.0200 (100/100 tracked)"));
   EXPECT_EQ(Find(real_tables, "timing").rows[0][7], "2");
 }
 
@@ -211,6 +218,135 @@ TEST_F(BenchTables, LostExclusionQualityAndTiming) {
   const report::Table& timing = Find(tables_, "timing");
   EXPECT_THAT(timing.header, ElementsAre("mode", "load", "extract", "detect", "filter", "track", "tracking", "runs"));
   EXPECT_THAT(timing.rows[1], ElementsAre("hoid2d", "10.00", "4.00", "0.10", "0.01", "2.00", "6.00", "5"));
+}
+
+
+// A run of a sequence with returns: its ATE and frames tracked, one relocalisation (right), one loop (false when
+// `false_loop`), two returns of which `recalled` were recalled, and one loop judged (confirmed unless false).
+RunResult Returning(double ate, std::size_t tracked, bool false_loop, double recalled) {
+  RunResult r = Ok(ate);
+  r.tracked = tracked;
+  r.relocalizations = 1.0;
+  r.false_relocalizations = 0.0;
+  r.loops = 1.0;
+  r.false_loops = false_loop ? 1.0 : 0.0;
+  r.merges = 0.0;
+  r.false_merges = 0.0;
+  r.return_events = 2.0;
+  r.returns_recalled = recalled;
+  r.closures_judged = 1.0;
+  r.closures_confirmed = false_loop ? 0.0 : 1.0;
+  return r;
+}
+
+TEST(BuildTables, RobustnessShowsTrackingTheAteSpreadFalseEventsAndPooledLoopRecall) {
+  BenchOptions options;
+  options.runs = 3;
+  options.modes = {"none", "hoidplus"};
+  options.area_sweep = {};
+  options.depth_sweep = {};
+  BenchSequence missing = SyntheticSequence("gone");
+  missing.problem = "rendering failed";
+  const Plan plan = MakePlan(options, {SyntheticSequence("loop"), TumSequence("no_groundtruth"), missing},
+                             "/bin/hoidslam", "/b");
+  std::vector<RunResult> results;
+  for (const RunSpec& spec : plan.runs) {
+    const std::string& sequence = plan.sequences[spec.sequence].name;
+    const std::string& mode = plan.variants[spec.variant].mode;
+    if (sequence == "no_groundtruth") {
+      RunResult r = Ok(0.0);
+      r.ate_rmse.reset();
+      r.relocalizations.reset();
+      r.false_relocalizations.reset();
+      results.push_back(r);
+    } else if (mode == "none") {
+      // Run 3 jumped (4 times the median) and closed its loop wrongly; run 2 lost 3 frames.
+      const double ates[] = {0.010, 0.012, 0.040};
+      const std::size_t tracked[] = {100, 97, 100};
+      const double recalled[] = {1.0, 2.0, 0.0};
+      results.push_back(Returning(ates[spec.run - 1], tracked[spec.run - 1], spec.run == 3, recalled[spec.run - 1]));
+    } else if (spec.run == 2) {
+      results.push_back(Failed());
+    } else {
+      // Nothing to recall and nothing closed: neither share is 100 %.
+      RunResult r = Returning(0.01, 100, false, 0.0);
+      r.return_events = 0.0;
+      r.loops = 0.0;
+      r.false_loops = 0.0;
+      r.closures_judged = 0.0;
+      r.closures_confirmed = 0.0;
+      results.push_back(r);
+    }
+  }
+  const std::vector<NamedTable> tables = BuildTables(plan, results);
+  const report::Table& table = Find(tables, "robustness");
+  EXPECT_THAT(table.header, ElementsAre("sequence", "mode", "runs", "tracked % (median)", "tracked % (min)",
+                                        "ATE median (m)", "ATE max / median", "false relocalisations", "false loops",
+                                        "false merges", "loop recall", "loop precision"));
+  ASSERT_EQ(table.rows.size(), 6U);
+  EXPECT_THAT(table.rows[0], ElementsAre("loop", "none", "3", "100.0 %", "97.0 %", "0.0120", "3.33", "0 of 3", "1 of 3",
+                                         "0 of 0", "50 % (3 of 6)", "67 % (2 of 3)"));
+  EXPECT_THAT(table.rows[1], ElementsAre("loop", "hoidplus", "2 of 3", "100.0 %", "100.0 %", "0.0100", "1.00", "0 of 2",
+                                         "0 of 0", "0 of 0", "no return", "no loop"));
+  EXPECT_THAT(table.rows[2],
+              ElementsAre("no_groundtruth", "none", "3", "100.0 %", "100.0 %", "–", "–", "–", "–", "–", "–", "–"));
+  EXPECT_EQ(table.rows[4][0], "gone");
+  EXPECT_EQ(table.rows[4][2], "missing");
+  EXPECT_EQ(table.rows[4].size(), table.header.size());
+  EXPECT_THAT(table.note, ::testing::HasSubstr("gone is missing: rendering failed"));
+}
+
+TEST(BuildTables, TheRandomSequencesHaveADistributionOfTheirOwn) {
+  BenchOptions options;
+  options.runs = 3;
+  options.modes = {"hoidplus"};
+  options.area_sweep = {};
+  options.depth_sweep = {};
+  const auto random = [](std::uint64_t seed) {
+    BenchSequence sequence = SyntheticSequence("random-" + std::to_string(seed));
+    sequence.scenario.clear();
+    sequence.random_seed = seed;
+    return sequence;
+  };
+  const Plan plan = MakePlan(options, {random(1), random(2), SyntheticSequence("carry")}, "/bin/hoidslam", "/b");
+  std::vector<RunResult> results;
+  for (const RunSpec& spec : plan.runs) {
+    const std::size_t k = spec.run - 1;
+    RunResult r = Ok(1.0);  // carry: not a random sequence, left out of the distribution
+    r.relocalizations = r.false_relocalizations = 0.0;
+    if (plan.sequences[spec.sequence].name == "random-1") {
+      // The lens covered for 10 of the 100 frames; run 2 tracked 89 of the other 90 (under 99 %); run 3 jumped.
+      r = Returning(std::vector{0.010, 0.011, 0.050}[k], std::vector<std::size_t>{90, 89, 90}[k], false, 0.0);
+      r.covered = 10;
+      r.relocalizations = r.false_relocalizations = 0.0;
+      r.return_events = 1.0;
+      r.returns_recalled = 1.0;
+    } else if (plan.sequences[spec.sequence].name == "random-2") {
+      // No return, no loop; run 3 tracked 98 of 100.
+      r = Ok(std::vector{0.020, 0.022, 0.024}[k], k == 2 ? 2 : 0);
+      r.relocalizations = r.false_relocalizations = r.loops = r.false_loops = r.merges = r.false_merges = 0.0;
+      r.return_events = r.returns_recalled = r.closures_judged = r.closures_confirmed = 0.0;
+    }
+    results.push_back(r);
+  }
+  const std::vector<NamedTable> tables = BuildTables(plan, results);
+  const report::Table& table = Find(tables, "random");
+  EXPECT_EQ(table.title, "Over 2 random sequences: the distribution of the runs");
+  EXPECT_THAT(table.header, ElementsAre("measure", "hoidplus"));
+  std::vector<std::string> cells;
+  for (const std::vector<std::string>& row : table.rows) cells.push_back(row[0] + ": " + row[1]);
+  EXPECT_THAT(cells, ElementsAre("runs finished: 6 of 6",
+                                 // 0.90, 0.89, 0.90, 1.00, 1.00, 0.98 of the frames
+                                 "tracked % (median / min): 94.0 % / 89.0 %",
+                                 "runs tracking under 99 % of the uncovered frames: 2 of 6",
+                                 // 0.010, 0.011, 0.020, 0.022, 0.024, 0.050: between the 5th and 6th
+                                 "ATE RMSE median / 90th percentile (m): 0.0210 / 0.0370",
+                                 "runs above 3× their sequence's median ATE: 1 of 6",
+                                 "false relocalisations: 0 of 0", "false loops: 0 of 3", "false merges: 0 of 0",
+                                 "loop recall: 100 % (3 of 3)", "loop precision: 100 % (3 of 3)"));
+  // Without random sequences there is no such table.
+  const Plan shipped = MakePlan(options, {SyntheticSequence("carry")}, "/bin/hoidslam", "/b");
+  EXPECT_EQ(FindTable(BuildTables(shipped, std::vector<RunResult>(shipped.runs.size(), Ok(0.01))), "random"), nullptr);
 }
 
 }  // namespace
