@@ -188,7 +188,7 @@ PYBIND11_MODULE(_hoidslam, m) {
       .def_readonly("index", &FrameResult::index)
       .def_readonly("timestamp", &FrameResult::timestamp)
       .def_property_readonly("state", [](const FrameResult& r) { return std::string(ToString(r.state)); },
-                             "ok, lost or not_initialized")
+                             "ok, provisional (found again after a loss, not yet confirmed), lost or not_initialized")
       .def_property_readonly(
           "pose",
           [](const FrameResult& r) -> std::optional<py::array_t<double>> {
@@ -200,6 +200,9 @@ PYBIND11_MODULE(_hoidslam, m) {
           "4 x 4 camera-to-world transform (T_wc), or None when the frame was not tracked")
       .def_readonly("method", &FrameResult::method)
       .def_readonly("failure", &FrameResult::failure)
+      .def_readonly("rejection", &FrameResult::rejection, "why the last pose tried was refused, or empty")
+      .def_readonly("withdrawn", &FrameResult::withdrawn,
+                    "indices of frames tracked provisionally that this frame refuted: they are lost after all")
       .def_readonly("keyframe", &FrameResult::keyframe)
       .def_readonly("map", &FrameResult::map,
                     "the map it was tracked in: 0 unless tracking was lost long in new ground and started another")

@@ -20,6 +20,7 @@
 #include "hoidslam/core/error.h"
 #include "hoidslam/core/interrupt.h"
 #include "hoidslam/eval/evaluation.h"
+#include "hoidslam/eval/loop_recall.h"
 #include "hoidslam/eval/pose_check.h"
 #include "hoidslam/eval/statistics.h"
 #include "hoidslam/io/atomic_file.h"
@@ -156,6 +157,7 @@ nlohmann::json SummaryJson(const pipeline::RunSummary& s, const std::string& seq
           {"dropped", s.dropped},
           {"tracked", s.tracked},
           {"lost", s.lost},
+          {"withdrawn", s.withdrawn},
           {"before_initialization", s.before_initialization},
           {"keyframes", s.keyframes},
           {"map_points", s.map_points},
@@ -225,8 +227,10 @@ void RunRun(const RunArgs& args) {
       SummaryJson(summary, sequence.name(), options.exclusion.ModeName(), detector->Name(), options.realtime);
   std::optional<eval::Evaluation> evaluation;
   std::optional<eval::PoseCheck> relocalizations, loops, merges;
+  std::optional<eval::LoopRecall> loop_recall;
   std::vector<std::pair<slam::MapId, eval::Evaluation>> other_maps;
   const eval::PoseCheckOptions relocalization_limits;
+  const eval::LoopRecallOptions loop_recall_options{.closure = relocalization_limits};
   const fs::path groundtruth = sequence.root() / "groundtruth.txt";
   if (!sequence.groundtruth().empty()) {
     try {
@@ -242,16 +246,27 @@ void RunRun(const RunArgs& args) {
       // Each loop closed, by the relative pose its verification found between its two ends: a false loop bends
       // the whole map. A merge the same way: its two ends are in different maps, but their relative pose is
       // measured all the same.
-      const auto check = [&](const std::vector<slam::LoopClosure>& closures) {
+      const auto relative = [](const std::vector<slam::LoopClosure>& closures) {
         std::vector<eval::RelativePose> poses;
         for (const slam::LoopClosure& c : closures) poses.push_back({c.timestamp, c.loop_timestamp, c.T_loop_current});
-        return eval::CheckRelativePoses(sequence.groundtruth(), poses, evaluation->options.ate.association,
-                                        relocalization_limits);
+        return poses;
+      };
+      const auto check = [&](const std::vector<slam::LoopClosure>& closures) {
+        return eval::CheckRelativePoses(sequence.groundtruth(), relative(closures),
+                                        evaluation->options.ate.association, relocalization_limits);
       };
       loops = check(summary.loops);
       json["evaluation"]["loops"] = eval::PoseCheckToJson(*loops, relocalization_limits);
       merges = check(summary.merges);
       json["evaluation"]["merges"] = eval::PoseCheckToJson(*merges, relocalization_limits);
+      // Every return to a mapped place, and whether the map was joined there: the loops that should have been
+      // closed, beside those that were (docs/evaluation.md).
+      std::vector<eval::RelativePose> closures = relative(summary.loops);
+      for (const eval::RelativePose& merge : relative(summary.merges)) closures.push_back(merge);
+      loop_recall = eval::ComputeLoopRecall(sequence.groundtruth(),
+                                            io::ReadTumTrajectory(out.temporary() / "keyframes.txt"), closures,
+                                            evaluation->options.ate.association, loop_recall_options);
+      json["evaluation"]["loop_recall"] = eval::LoopRecallToJson(*loop_recall, loop_recall_options);
       // Each other map on its own: its frames aligned to the ground truth by themselves.
       json["evaluation"]["other_maps"] = nlohmann::json::array();
       for (const slam::MapSummary& map : summary.maps) {
@@ -293,6 +308,11 @@ void RunRun(const RunArgs& args) {
   fmt::print("{}: {} frames, {} tracked, {} lost, {} before initialisation; {} keyframes, {} map points\n",
              sequence.name(), summary.frames, summary.tracked, summary.lost, summary.before_initialization,
              summary.keyframes, summary.map_points);
+  if (summary.withdrawn > 0) {
+    fmt::print("{} of the lost frames were tracked after a loss, then withdrawn: the frames after them refuted the "
+               "pose found\n",
+               summary.withdrawn);
+  }
   if (options.realtime.pace) {
     fmt::print("paced at the recorded rate: {} frames dropped, arriving while the system was busy ({:.1f} %)\n",
                summary.dropped, 100.0 * summary.dropped / std::max<std::size_t>(1, summary.frames + summary.dropped));
@@ -343,6 +363,21 @@ void RunRun(const RunArgs& args) {
   };
   print_closures("loops closed", summary.loops.size(), loops);
   print_closures("maps merged", summary.merges.size(), merges);
+  if (loop_recall) {
+    // "loop recall: 5 of 6 returns (4 closed, 1 already consistent); precision 3 of 3 loops": never 100 % of nothing.
+    if (loop_recall->events.empty()) {
+      fmt::print("loop recall: undefined, no return to an earlier place");
+    } else {
+      fmt::print("loop recall: {} of {} returns ({} closed, {} already consistent)", loop_recall->Recalled(),
+                 loop_recall->events.size(), loop_recall->Closed(), loop_recall->Consistent());
+    }
+    const std::string_view closed = summary.merges.empty() ? "loops" : "loops and merges";
+    if (loop_recall->closures == 0) {
+      fmt::print("; precision undefined, no {} to judge\n", closed);
+    } else {
+      fmt::print("; precision {} of {} {}\n", loop_recall->confirmed, loop_recall->closures, closed);
+    }
+  }
   for (const slam::MapSummary& map : summary.maps) {
     if (map.id == summary.main_map) continue;
     fmt::print("map {}: {} frames tracked in a map of its own, never merged ({})", map.id, map.frames,

@@ -128,6 +128,9 @@ enum class TrackingState {
   kOk,              // tracked: FrameResult::T_wc holds the pose
   kLost,            // after initialisation, not tracked (FrameResult::failure says why)
   kNotInitialized,  // before the map could start (too few keypoints with depth)
+  // Found again after a loss: FrameResult::T_wc holds the pose, but nothing enters the map from it until the next
+  // frames confirm it; if they refute it, a later frame's FrameResult::withdrawn lists this one (docs/slam.md).
+  kProvisional,
 };
 std::string_view ToString(TrackingState state);
 
@@ -150,7 +153,14 @@ struct FrameResult {
   TrackingState state = TrackingState::kNotInitialized;
   std::optional<Matrix4> T_wc;  // camera to world, when tracked
   std::string method;   // how the pose was found: initialization, motion_model, reference_keyframe, relocalization, none
-  std::string failure;  // why a lost frame was lost: too_few_keypoints, too_few_matches, pose_rejected; else empty
+  // Why a lost frame was lost: too_few_keypoints, too_few_matches, pose_rejected, relocalization_refuted; else
+  // empty. A refused pose also says why in `rejection` (too_few_inliers, too_little_support, contradicted,
+  // outliers_clustered, against_motion).
+  std::string failure;
+  std::string rejection;
+  // This frame refuted a provisional pose found after a loss: the indices of the frames tracked provisionally
+  // since, now lost (their poses leave the trajectory).
+  std::vector<std::size_t> withdrawn;
   bool keyframe = false;
   // The map it was tracked in: 0 unless tracking was lost long in new ground and started another (docs/slam.md,
   // "Several maps"); a later merge may join that map to the first. Trajectory() holds the main map's frames.

@@ -96,12 +96,17 @@ FrameResult ToFrameResult(std::size_t index, double timestamp, const pipeline::F
   r.index = index;
   r.timestamp = timestamp;
   const slam::TrackResult& track = outcome.result;
-  r.state = track.T_cw                                              ? TrackingState::kOk
-            : track.state == slam::TrackingState::kNotInitialized ? TrackingState::kNotInitialized
-                                                                    : TrackingState::kLost;
+  switch (track.state) {
+    case slam::TrackingState::kOk: r.state = TrackingState::kOk; break;
+    case slam::TrackingState::kProvisional: r.state = TrackingState::kProvisional; break;
+    case slam::TrackingState::kLost: r.state = TrackingState::kLost; break;
+    case slam::TrackingState::kNotInitialized: r.state = TrackingState::kNotInitialized; break;
+  }
   if (track.T_cw) r.T_wc = ToMatrix(track.T_cw->inverse());
   r.method = slam::ToString(track.method);
   if (track.failure != slam::TrackingFailure::kNone) r.failure = slam::ToString(track.failure);
+  if (track.rejection != slam::PoseRejection::kNone) r.rejection = slam::ToString(track.rejection);
+  r.withdrawn.assign(track.withdrawn.begin(), track.withdrawn.end());
   r.keyframe = track.keyframe;
   if (track.T_cw) r.map = track.map;
   r.boxes = api::ToJudgedBoxes(outcome.boxes);
@@ -134,6 +139,7 @@ std::string_view ToString(TrackingState state) {
     case TrackingState::kOk: return "ok";
     case TrackingState::kLost: return "lost";
     case TrackingState::kNotInitialized: return "not_initialized";
+    case TrackingState::kProvisional: return "provisional";
   }
   return "unknown";
 }

@@ -81,7 +81,6 @@ RunOptions RunOptions::FromSettings(const io::Settings& settings) {
   options.system.close_depth = settings.CloseDepthThreshold();
   options.system.final_adjustment.depth_noise = settings.depth_noise;
   options.system.orb = settings.orb;
-  options.system.tracking.keyframe_max_interval = std::max(1, static_cast<int>(std::lround(settings.fps)));
   options.exclusion.hoid = settings.hoid;
   return options;
 }

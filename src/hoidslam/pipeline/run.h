@@ -96,8 +96,11 @@ struct StageTimes {
 
 struct RunSummary {
   std::size_t frames = 0;            // frames processed
-  std::size_t tracked = 0;           // in any map (trajectory.txt holds the main map's)
+  std::size_t tracked = 0;           // in any map (trajectory.txt holds the main map's), provisionally or not
   std::size_t lost = 0;              // after initialisation, not tracked
+  // Tracked provisionally after a loss, then withdrawn when the frames after refuted the pose (counted lost, not
+  // tracked; slam/tracker.h).
+  std::size_t withdrawn = 0;
   std::size_t before_initialization = 0;  // before the map could start (too few keypoints with depth)
   std::size_t keyframes = 0;
   std::size_t map_points = 0;
@@ -107,7 +110,7 @@ struct RunSummary {
   std::size_t keypoints_tracked = 0;    // handed to tracking: the rest, or those of the extraction outside the drops
   std::size_t moving_points = 0;     // map points the safety net erased (hoidplus)
   std::size_t dropped = 0;           // frames a paced run passed over, arriving while the system was busy
-  std::vector<double> relocalized;   // stamps of the frames relocalisation found again after a loss
+  std::vector<double> relocalized;   // stamps of the frames relocalisation found again after a loss (not withdrawn)
   std::vector<slam::LoopClosure> loops;   // closed, in order
   std::vector<slam::LoopClosure> merges;  // of two maps, in order
   std::vector<slam::MapSummary> maps;     // with tracked frames, by id

@@ -243,6 +243,7 @@ const FrameOutcome& Session::Track(std::size_t index, const core::RgbdFrame& fra
   summary_.keypoints_dropped += out.dropped;
   summary_.keypoints_tracked += kept;
   summary_.moving_points += static_cast<std::size_t>(result.moving_points);
+  tracked_stamps_.push_back(frame.timestamp);
   if (result.T_cw) {
     ++summary_.tracked;
     if (result.method == slam::TrackingMethod::kRelocalization) summary_.relocalized.push_back(frame.timestamp);
@@ -251,12 +252,28 @@ const FrameOutcome& Session::Track(std::size_t index, const core::RgbdFrame& fra
   } else {
     ++summary_.lost;
   }
+  // A refuted relocalisation: its frames were counted tracked, and are lost after all.
+  for (const std::uint64_t id : result.withdrawn) {
+    const double stamp = tracked_stamps_.at(id);
+    --summary_.tracked;
+    ++summary_.lost;
+    ++summary_.withdrawn;
+    std::erase(summary_.relocalized, stamp);
+  }
   summary_.times.push_back(out.times);
 
   nlohmann::json& entry = out.entry;
-  entry["state"] = result.T_cw ? "ok" : slam::ToString(result.state);
+  entry["state"] = slam::ToString(result.state);
   entry["method"] = slam::ToString(result.method);
   if (result.failure != slam::TrackingFailure::kNone) entry["failure"] = slam::ToString(result.failure);
+  if (result.rejection != slam::PoseRejection::kNone) entry["rejection"] = slam::ToString(result.rejection);
+  if (!result.withdrawn.empty()) entry["withdrawn"] = result.withdrawn;
+  if (result.evidence) {
+    // What the pose was judged on (docs/slam.md, "Accepting a pose").
+    entry["evidence"] = {{"inlier_ratio", Round(result.evidence->inlier_ratio(), 3)},
+                         {"outlier_clustering", Round(result.evidence->outlier_clustering, 2)}};
+    if (result.evidence->motion_chi2) entry["evidence"]["motion_chi2"] = Round(*result.evidence->motion_chi2, 1);
+  }
   entry["keyframe"] = result.keyframe;
   if (result.T_cw) entry["map"] = result.map;
   entry["features"] = {{"extracted", out.extracted},

@@ -77,6 +77,7 @@ class Session {
   RunSummary summary_;
   std::unique_ptr<Detections> detections_;  // the detector thread, when there is a detector and boxes are needed
   FrameOutcome outcome_;
+  std::vector<double> tracked_stamps_;  // of every frame handed to tracking, by its id there (slam::Frame::id)
   bool finished_ = false;
 };
 

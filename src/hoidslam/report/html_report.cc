@@ -385,11 +385,16 @@ Table ErrorTable(const eval::Evaluation& evaluation) {
 LineSeries AteErrorSeries(const RunReport& report, std::string name, std::string colour) {
   const double t0 = StartTime(report);
   std::vector<std::pair<double, double>> points;
+  std::vector<double> evaluated;
   for (const eval::AtePair& pair : report.comparison->evaluation.ate.pairs) {
     points.emplace_back(pair.estimate_timestamp - t0, pair.error);
+    evaluated.push_back(pair.estimate_timestamp);
   }
+  std::sort(evaluated.begin(), evaluated.end());
+  // A gap in the line wherever a frame has no pose: lost, or tracked provisionally and withdrawn.
   for (const FrameRecord& frame : report.frame_log) {
-    if (frame.state != "ok") points.emplace_back(frame.timestamp - t0, kNaN);
+    const auto near = std::lower_bound(evaluated.begin(), evaluated.end(), frame.timestamp - 1e-4);
+    if (near == evaluated.end() || *near > frame.timestamp + 1e-4) points.emplace_back(frame.timestamp - t0, kNaN);
   }
   std::stable_sort(points.begin(), points.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   LineSeries errors{.name = std::move(name), .colour = std::move(colour)};

@@ -9,6 +9,8 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
 
+#include "hoidslam/core/option_checks.h"
+
 namespace hoidslam::slam {
 namespace {
 
@@ -107,11 +109,11 @@ Linearization Linearize(const Correspondences& c, const std::vector<std::uint8_t
   }
   lin.H.bottomLeftCorner<3, 3>() = lin.H.topRightCorner<3, 3>().transpose();
   if (c.prior != nullptr) {
-    // δ with T = exp(δ) T_prior, to first order (its Jacobian taken as the identity: the prior's error is small).
-    const Eigen::Matrix3d dR = R * c.prior->T_cw.rotation().transpose();
-    const Eigen::AngleAxisd turn(dR);
-    Vector6d r;
-    r << turn.angle() * turn.axis(), t - dR * c.prior->T_cw.translation();
+    // Its Jacobian taken as the identity: the prior's error is small.
+    core::Pose T = core::Pose::Identity();
+    T.linear() = R;
+    T.translation() = t;
+    const Vector6d r = PriorResidual(T, *c.prior);
     const Vector6d weighted = c.prior->information * r;
     lin.cost += r.dot(weighted);
     lin.H += c.prior->information;
@@ -171,14 +173,36 @@ void RunRound(const Correspondences& c, const std::vector<std::uint8_t>& active,
 
 }  // namespace
 
+void PoseOptimizerOptions::Check() const {
+  core::CheckInRange(rounds, 1, 100, "PoseOptimizer.rounds");
+  core::CheckInRange(iterations_per_round, 1, 1000, "PoseOptimizer.iterationsPerRound");
+  core::CheckPositive(chi2_mono, "PoseOptimizer.chi2Mono");
+  core::CheckPositive(chi2_stereo, "PoseOptimizer.chi2Stereo");
+}
+
+Vector6d PriorResidual(const core::Pose& T_cw, const PosePrior& prior) {
+  const Eigen::Matrix3d dR = T_cw.linear() * prior.T_cw.linear().transpose();
+  const Eigen::AngleAxisd turn(dR);
+  Vector6d r;
+  r << turn.angle() * turn.axis(), T_cw.translation() - dR * prior.T_cw.translation();
+  return r;
+}
+
+double PriorChi2(const core::Pose& T_cw, const PosePrior& prior) {
+  const Vector6d r = PriorResidual(T_cw, prior);
+  return r.dot(prior.information * r);
+}
+
 int OptimizePose(const RgbdCamera& camera, std::span<const Eigen::Vector3d> points_w,
                  std::span<const KeypointMeasurement> measurements, core::Pose& T_cw, std::vector<std::uint8_t>& outlier,
-                 const PoseOptimizerOptions& options, const PosePrior* prior) {
+                 const PoseOptimizerOptions& options, const PosePrior* prior, Matrix6d* information) {
   if (points_w.size() != measurements.size()) {
     throw std::invalid_argument("OptimizePose: " + std::to_string(points_w.size()) + " points but " +
                                 std::to_string(measurements.size()) + " measurements");
   }
+  options.Check();
   const std::size_t n = points_w.size();
+  if (information != nullptr) information->setZero();
   if (n < 3) {
     outlier.assign(n, 1);
     return 0;
@@ -198,12 +222,12 @@ int OptimizePose(const RgbdCamera& camera, std::span<const Eigen::Vector3d> poin
   }
 
   int inliers = 0;
-  const int rounds = std::max(options.rounds, 1);
+  const int rounds = options.rounds;
   for (int round = 0; round < rounds; ++round) {
     int num_active = 0;
     for (std::size_t i = 0; i < n; ++i) num_active += active[i] = !outlier[i];
     // Fewer than 3 points leave the pose undetermined: keep it and only classify.
-    if (num_active >= 3) RunRound(c, active, round + 1 < rounds, std::max(options.iterations_per_round, 1), q, t);
+    if (num_active >= 3) RunRound(c, active, round + 1 < rounds, options.iterations_per_round, q, t);
 
     const Eigen::Matrix3d R = q.toRotationMatrix();
     inliers = 0;
@@ -218,10 +242,17 @@ int OptimizePose(const RgbdCamera& camera, std::span<const Eigen::Vector3d> poin
   T_cw = core::Pose::Identity();
   T_cw.linear() = q.toRotationMatrix();
   T_cw.translation() = t;
+  if (information != nullptr) {
+    std::vector<std::uint8_t> kept(n);
+    for (std::size_t i = 0; i < n; ++i) kept[i] = !outlier[i];
+    const Correspondences unweighted{camera, points_w, measurements, options, nullptr};
+    *information = Linearize(unweighted, kept, T_cw.linear(), t, false).H;
+  }
   return inliers;
 }
 
-int OptimizeFramePose(Frame& frame, const PoseOptimizerOptions& options, bool drop_outliers, const PosePrior* prior) {
+int OptimizeFramePose(Frame& frame, const PoseOptimizerOptions& options, bool drop_outliers, const PosePrior* prior,
+                      Matrix6d* information) {
   std::vector<Eigen::Vector3d> points;
   std::vector<KeypointMeasurement> measurements;
   std::vector<int> index;
@@ -234,7 +265,7 @@ int OptimizeFramePose(Frame& frame, const PoseOptimizerOptions& options, bool dr
   }
   std::vector<std::uint8_t> outlier;
   const int inliers = OptimizePose(frame.keypoints->sensor().camera, points, measurements, frame.T_cw, outlier,
-                                   options, prior);
+                                   options, prior, information);
   for (std::size_t k = 0; k < index.size(); ++k) {
     const auto i = static_cast<std::size_t>(index[k]);
     frame.outlier[i] = outlier.empty() ? 1 : outlier[k];
