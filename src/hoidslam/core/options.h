@@ -45,6 +45,9 @@ struct HoidPlusOptions {
                                       // corners on a moving silhouette's edge drop too
   double box_margin = 0.05;           // HOIDplus.boxMargin, >= 0: dynamic boxes grown by this share of their
                                       // size on each side (the depth test keeps the background they take in)
+  // An object whose box, at its foreground depth, is larger than anything of its class a person handles (a desk a
+  // detector calls a laptop, a wall called a tv: LargestHandled) is not handled, and its box not dropped.
+  bool size_check = true;             // HOIDplus.sizeCheck
   // Part 2, memory across frames.
   bool memory = true;                 // HOIDplus.memory
   double association_iou = 0.3;       // HOIDplus.associationIoU, (0, 1]: same-class box overlap to continue a track

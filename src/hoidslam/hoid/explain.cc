@@ -38,6 +38,8 @@ std::string CaptionDecision(const core::Detection& detection, const Decision& de
       return caption + " handled";
     case Reason::kSeenStill:
       return caption + " still";
+    case Reason::kTooLargeToHandle:
+      return caption + fmt::format(" {:.1f}m: too large", decision.extent);
     case Reason::kNoInteraction:
       return decision.person_index >= 0 ? caption + fmt::format(" {:.0f}%", 100.0F * decision.interaction_ratio)
                                         : caption;

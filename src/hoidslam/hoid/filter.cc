@@ -176,6 +176,7 @@ std::string_view ToString(Reason reason) {
     case Reason::kCarried: return "carried";
     case Reason::kRecentlyHandled: return "recently_handled";
     case Reason::kSeenStill: return "seen_still";
+    case Reason::kTooLargeToHandle: return "too_large_to_handle";
   }
   return "unknown";
 }

@@ -49,6 +49,8 @@ enum class Reason : std::uint8_t {
   kCarried,                // dynamic: hoidplus, a person (or handled object) the detector missed, box carried
   kRecentlyHandled,        // dynamic: hoidplus, an object a person handled, not yet seen still long enough
   kSeenStill,              // static: hoidplus, a handled (or touched) object memory saw still for the set time
+  kTooLargeToHandle,       // static: hoidplus, 2D passed but the box, at the object's depth, is larger than anything
+                           // of its class a person handles (a desk taken for a laptop)
 };
 
 // "person", "mode_keeps_all", "not_potentially_dynamic", ... (snake case of the enumerator, for logs).
@@ -71,6 +73,9 @@ struct Decision {
   float depth = std::numeric_limits<float>::quiet_NaN();
   float person_depth = std::numeric_limits<float>::quiet_NaN();
   float depth_difference = std::numeric_limits<float>::quiet_NaN();
+  // Mode hoidplus, for an object that passed the 2D rule and has a foreground depth, NaN otherwise: the longer
+  // side of its box in metres at that depth.
+  float extent = std::numeric_limits<float>::quiet_NaN();
 };
 
 // Classifies every detection; the result has one Decision per detection, in the same order. `depth` is the

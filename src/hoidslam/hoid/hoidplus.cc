@@ -1,9 +1,11 @@
 #include "hoidslam/hoid/hoidplus.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string_view>
 
 namespace hoidslam::hoid {
 namespace {
@@ -20,6 +22,20 @@ float IoU(const cv::Rect2f& a, const cv::Rect2f& b) {
   if (!(w > 0.0F) || !(h > 0.0F)) return 0.0F;
   const float overlap = w * h;
   return overlap / (a.area() + b.area() - overlap);
+}
+
+// The longest side, in metres, of anything of a class a person handles, with room for a box that also takes in the
+// hands: a box larger than that at the object's depth is a false detection (a desk called a laptop). Nullopt for a
+// class hoidslam knows no size of (a user's own).
+std::optional<double> LargestHandled(std::string_view label) {
+  constexpr std::array<std::pair<std::string_view, double>, 8> kLargest = {{
+      {"cup", 0.3}, {"mouse", 0.25}, {"bottle", 0.5}, {"book", 0.6},
+      {"laptop", 0.6}, {"keyboard", 0.7}, {"chair", 1.4}, {"tv", 1.6},
+  }};
+  for (const auto& [name, size] : kLargest) {
+    if (name == label) return size;
+  }
+  return std::nullopt;
 }
 
 bool IsInteraction(Reason reason) {
@@ -221,13 +237,23 @@ void HoidPlusFilter::ConfirmByDepth(const cv::Mat& depth, JudgedBoxes& boxes) co
       decision.reason = Reason::kDepthUnavailable;  // the 2D verdict stands: dynamic
       continue;
     }
+    const cv::Rect2f& box = boxes.detections[i].box;
+    decision.depth = object_depth->median;
+    decision.extent =
+        std::max(box.width / static_cast<float>(camera_.fx), box.height / static_cast<float>(camera_.fy)) *
+        object_depth->median;
+    const std::optional<double> largest = LargestHandled(boxes.detections[i].label);
+    if (options_.plus.size_check && largest && decision.extent > *largest) {
+      decision.reason = Reason::kTooLargeToHandle;
+      decision.dynamic = false;
+      continue;
+    }
     // A held object lies within the person's reach: from an arm's length (depth_extent) in front of their nearest
     // part to where their own extent ends behind them, give or take depth_threshold.
     const auto threshold = static_cast<float>(options_.depth_threshold);
     const auto reach = static_cast<float>(options_.plus.depth_extent);
     const bool apart = object_depth->median < person_depth->near - reach - threshold ||
                        object_depth->median > person_depth->cut + threshold;
-    decision.depth = object_depth->median;
     decision.person_depth = person_depth->median;
     decision.depth_difference = std::abs(decision.depth - decision.person_depth);
     decision.reason = apart ? Reason::kDepthRejected : Reason::kDepthConfirmed;
@@ -252,7 +278,10 @@ void HoidPlusFilter::ApplyMemory(double timestamp, const cv::Mat& depth, const c
     // world, agrees with where it stood for still_seconds before (a chair a person walked past is released at
     // once, a cup carried away only after standing still for still_seconds where it was put down).
     const bool handled_now = decision.dynamic && IsInteraction(decision.reason);
-    if (handled_now) {
+    if (decision.reason == Reason::kTooLargeToHandle) {
+      // No person handles it: whatever memory thought, it is not a handled object.
+      track->handled = false;
+    } else if (handled_now) {
       track->handled = true;
       track->last_handled = timestamp;
     } else if (track->handled) {

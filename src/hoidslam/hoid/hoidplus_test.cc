@@ -77,6 +77,31 @@ TEST(HoidPlusFilter, DepthConfirmsAnObjectInHandAndRejectsOneOnTheWallBehind) {
   EXPECT_TRUE(blind.decisions[1].dynamic);
 }
 
+// A detector that calls a desk by a seated person a laptop (fr1_rpy with YOLOX-Nano: a 450 × 464 px "laptop" at
+// 0.9 m, 0.8 m across): no person handles a laptop that size, so it is not dropped, and memory does not hold it.
+TEST(HoidPlusFilter, AnObjectTooLargeForItsClassIsNotHandled) {
+  HoidPlusFilter filter(Options(true, true), {});
+  // The person at 1.2 m; a "laptop" box over most of the image at 0.9 m; a real laptop in their hands at 1 m.
+  const std::vector<Detection> detections = {Det("person", 200, 40, 220, 420), Det("laptop", 100, 30, 450, 440),
+                                             Det("laptop", 260, 250, 110, 70)};
+  const cv::Mat depth = Room({{cv::Rect(100, 30, 450, 440), 0.9F}, {cv::Rect(200, 40, 220, 420), 1.2F},
+                              {cv::Rect(260, 250, 110, 70), 1.0F}});
+  for (int frame = 0; frame < 3; ++frame) {
+    const JudgedBoxes boxes = Judge(filter, frame * kDt, detections, depth);
+    ASSERT_EQ(boxes.detections.size(), 3U);
+    EXPECT_EQ(boxes.decisions[1].reason, Reason::kTooLargeToHandle) << frame;
+    EXPECT_FALSE(boxes.decisions[1].dynamic);
+    EXPECT_GT(boxes.decisions[1].extent, 0.7F);  // 450 px at its foreground's depth; a laptop is at most 0.6 m
+    EXPECT_LT(boxes.decisions[2].extent, 0.3F);
+    EXPECT_EQ(boxes.decisions[2].reason, Reason::kDepthConfirmed) << frame;  // 0.2 m across: in hand
+  }
+  // Switched off, the 2D rule and depth decide alone.
+  core::HoidOptions unchecked = Options(true, true);
+  unchecked.plus.size_check = false;
+  HoidPlusFilter lenient(unchecked, {});
+  EXPECT_TRUE(Judge(lenient, 0.0, detections, depth).decisions[1].dynamic);
+}
+
 TEST(HoidPlusFilter, KeepsTheBackgroundOfAPersonsBoxAndDropsThePerson) {
   HoidPlusFilter filter(Options(true, false), {});
   const cv::Mat depth = Room({{cv::Rect(150, 100, 100, 350), 2.0F}});

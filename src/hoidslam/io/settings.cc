@@ -53,9 +53,9 @@ constexpr std::array kSpelledKeys = {kFx, kFy, kCx, kCy, kK1, kK2, kP1, kP2, kK3
 constexpr std::array<std::string_view, 6> kHoidKeys = {"HOID.mode",           "HOID.minInteractionArea",
                                                        "HOID.depthThreshold", "HOID.sampleBoxSize",
                                                        "HOID.personClass",    "HOID.dynamicClasses"};
-constexpr std::array<std::string_view, 15> kHoidPlusKeys = {
+constexpr std::array<std::string_view, 16> kHoidPlusKeys = {
     "HOIDplus.depthRefinement", "HOIDplus.depthBin",         "HOIDplus.valley",  "HOIDplus.depthExtent", "HOIDplus.foregroundShare",         "HOIDplus.edgeMargin",
-    "HOIDplus.boxMargin",       "HOIDplus.memory",           "HOIDplus.associationIoU", "HOIDplus.relabelIoU",
+    "HOIDplus.boxMargin",       "HOIDplus.sizeCheck",        "HOIDplus.memory",  "HOIDplus.associationIoU", "HOIDplus.relabelIoU",
     "HOIDplus.maxMissedSeconds", "HOIDplus.stillSeconds",    "HOIDplus.stillDistance",  "HOIDplus.safetyNet",
     "HOIDplus.movingPointOutliers"};
 
@@ -298,6 +298,7 @@ Settings ReadSettings(const yaml::Value& root) {
   read("HOIDplus.stillSeconds", plus.still_seconds);
   read("HOIDplus.stillDistance", plus.still_distance);
   read("HOIDplus.safetyNet", plus.safety_net);
+  read("HOIDplus.sizeCheck", plus.size_check);
   read("HOIDplus.movingPointOutliers", plus.moving_point_outliers);
 
   CheckSettings(settings, spelling);

@@ -42,6 +42,7 @@ nlohmann::json JudgedBoxList(const hoid::JudgedBoxes& boxes, bool dynamic) {
       entry["interaction"] = Round(decision.interaction_ratio, 3);
     }
     if (!std::isnan(decision.depth_difference)) entry["depth_difference"] = Round(decision.depth_difference, 3);
+    if (!std::isnan(decision.extent)) entry["extent"] = Round(decision.extent, 2);
     if (i < boxes.context.size()) {
       const hoid::BoxContext& context = boxes.context[i];
       if (context.track != 0) entry["track"] = context.track;

@@ -64,6 +64,7 @@ void TrackerOptions::Check() const {
   }
   core::CheckNotNegative(confirmation_seconds, "Tracking.confirmationSeconds");
   core::CheckInRange(confirmation_frames, 1, 1000, "Tracking.confirmationFrames");
+  core::CheckPositive(max_provisional_seconds, "Tracking.maxProvisionalSeconds");
   core::CheckNotNegative(after_relocalization_seconds, "Tracking.afterRelocalizationSeconds");
   core::CheckNotNegative(moving_point_outliers, "Tracking.movingPointOutliers");
   core::CheckPositive(moving_point_depth, "Tracking.movingPointDepth");
@@ -205,25 +206,28 @@ TrackResult Tracker::Track(Frame frame) {
     Record(std::move(frame), placement, gap, chosen.method);
   } else {
     if (state_ == TrackingState::kProvisional) {
-      result.withdrawn = Withdraw();
-      result.failure = TrackingFailure::kRelocalizationRefuted;
+      const bool ruled_out = chosen.verdict.rejection == PoseRejection::kAgainstMotion &&
+                             chosen.evidence.inlier_ratio() >= options_.acceptance.min_inlier_ratio;
+      if (ruled_out || frame.timestamp - provisional_->since > options_.max_provisional_seconds) {
+        result.withdrawn = Withdraw();
+        result.failure = TrackingFailure::kRelocalizationRefuted;
+      }
     } else if (state_ == TrackingState::kOk) {
       state_ = TrackingState::kLost;
     }
     if (state_ == TrackingState::kLost && !lost_since_) lost_since_ = frame.timestamp;
     records_.push_back({frame.timestamp, nullptr, core::Pose::Identity()});
-    if (state_ == TrackingState::kLost && result.failure == TrackingFailure::kNone) {
+    if (state_ != TrackingState::kNotInitialized && result.failure == TrackingFailure::kNone) {
       result.failure =
           frame.size() < options_.acceptance.min_inliers_floor ? TrackingFailure::kTooFewKeypoints : chosen.failure;
     }
   }
-  if (state_ == TrackingState::kOk || state_ == TrackingState::kProvisional) {
-    if (accepted || initialized) {
-      result.T_cw = standing_.last_frame->T_cw;
-      result.map = standing_.last_record.reference->map_id();
-    }
+  if (accepted || initialized) {
+    result.T_cw = standing_.last_frame->T_cw;
+    result.map = standing_.last_record.reference->map_id();
   }
-  result.state = state_;
+  // A frame lost while a pose is provisional is reported lost; the pose stays provisional.
+  result.state = result.T_cw || state_ != TrackingState::kProvisional ? state_ : TrackingState::kLost;
   return result;
 }
 

@@ -11,8 +11,9 @@
 // frame is reported with its pose, but nothing is written to the map from it — no keyframe, no map point, no
 // tracking statistics, no erased point, and so no loop and no merge — until the frames that follow confirm it
 // (TrackerOptions::confirmation_*): each tracked against the local map around it, accepted, and moving as the
-// motion measured since allows. A frame that does not is a refutation: the relocalisation is withdrawn, its
-// frames are reported lost (TrackResult::withdrawn) and tracking goes back to where it stood before the loss.
+// motion measured since allows. A well-backed frame moving as no camera does, or no confirmation within a second,
+// is a refutation: the relocalisation is withdrawn, its frames are reported lost (TrackResult::withdrawn) and
+// tracking goes back to where it stood before the loss.
 // The tracker is the only one that writes to the map, once per frame, from the hypothesis it took; it decides
 // when a frame becomes a keyframe (track/keyframe_decision.h) and hands it to local mapping.
 //
@@ -61,6 +62,10 @@ struct TrackerOptions {
   // first: a pose that the local map corrects on the next frame leaves a jump the frame after cannot continue.
   double confirmation_seconds = 0.2;
   int confirmation_frames = 3;
+  // A provisional pose is refuted by a frame whose pose a good share of its matches backs (PoseAcceptanceOptions::
+  // min_inlier_ratio) yet the motion since rules out, or when it has not been confirmed this long after it was
+  // found (seconds). A frame too weak to say either way (blurred, bare) is lost, and the pose stays provisional.
+  double max_provisional_seconds = 1.0;
   // For this long after a relocalisation (seconds, from the relocalised frame) tracking asks
   // PoseAcceptanceOptions::min_inliers_after_relocalization.
   double after_relocalization_seconds = 1.0;

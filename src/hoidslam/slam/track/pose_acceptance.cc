@@ -70,11 +70,12 @@ PoseVerdict JudgePose(const PoseEvidence& evidence, const PoseAcceptanceOptions&
   }
   const bool majority = ratio >= options.majority_ratio;
   const bool clustered = evidence.outlier_clustering > options.max_outlier_clustering;
+  const bool good_share = ratio >= options.min_inlier_ratio;
   // The motion model judges a provisional pose always, and otherwise only where the image itself is of two minds
-  // (no clear majority, the outliers in regions): outliers spread like noise leave one explanation, and a pose far
-  // from the prediction then means the camera jerked.
+  // (a small share backing the pose, the outliers in regions): outliers spread like noise leave one explanation, and
+  // a pose a good share backs stands on it; a pose far from the prediction then means the camera jerked.
   const bool against_motion = evidence.motion_chi2 && *evidence.motion_chi2 > options.max_motion_chi2;
-  if (against_motion && (evidence.provisional || (!majority && clustered))) {
+  if (against_motion && (evidence.provisional || (!good_share && clustered))) {
     return Refused(PoseRejection::kAgainstMotion);
   }
   if (majority) return {true, false, true, PoseRejection::kNone};
@@ -83,8 +84,7 @@ PoseVerdict JudgePose(const PoseEvidence& evidence, const PoseAcceptanceOptions&
   }
   // Reported; the map extended from it only when a good share backs it, and another search tried when the share is
   // small or regions of the image disagree.
-  const bool good_share = ratio >= options.min_inlier_ratio;
-  return {true, clustered || !good_share, good_share, PoseRejection::kNone};
+  return {true, clustered || !good_share, good_share || !clustered, PoseRejection::kNone};
 }
 
 PoseEvidence MeasureEvidence(const Frame& frame, int matched, const PosePrior* prior,

@@ -30,22 +30,22 @@ struct PoseAcceptanceOptions {
   // Outliers clustered in regions of the image: a pose keeping this share is reported. On crowd without a filter
   // poses pulled by people's points kept 15-40 %.
   double min_clustered_inlier_ratio = 0.15;
-  // The map is extended from a pose (a keyframe, new points, the safety net's verdicts, the tracking statistics that
-  // feed point culling) only when this share of its matches backs it; below it, or with clustered outliers, the
-  // reference keyframe is tried as well and the pose more inliers back is kept. A keyframe made on a poorly backed
-  // pose carries its error into the map for good: on walking_xyz a motion-model guess after a jerk kept 32 of 530
-  // matches and bent the map (56 mm ATE where other runs had 3.5); at 15 Hz one keeping 40 of 425, its outliers
-  // spread, made a keyframe 57 mm off (17 mm ATE where the others had 3); on crowd without a filter, keyframes on
-  // poses pulled by people's points carry the pull into the map.
+  // Below this share of its matches, or with clustered outliers, a pose is doubtful: the reference keyframe is tried
+  // as well and the pose more inliers back is kept (at 15 Hz on walking_xyz a motion-model pose keeping 40 of 425,
+  // its outliers spread, was 57 mm off and, made a keyframe, bent the map: 17 mm ATE where the others had 3). And
+  // a pose below it whose outliers cluster extends no map (no keyframe, new points, safety-net verdicts or tracking
+  // statistics): on crowd without a filter, keyframes on poses pulled by people's points carry the pull into the
+  // map. (Refusing every pose below 30 %, as tracking did before, lost every blurred turn of fr1_rpy; extending no
+  // map from any of them left the map behind the camera in a long fast turn, and tracking lost with it.)
   double min_inlier_ratio = 0.3;
   // The dispersion index of the inliers' share over the image cells (PoseEvidence::outlier_clustering) up to which
   // the outliers count as spread like noise. Measured: 1.0-2.9 (5th-95th percentile) for right poses of the real
   // fr1_rpy recording; 2.2-6.0 for poses pulled by people on crowd without a filter.
   double max_outlier_clustering = 2.5;
-  // A pose backed by less than majority_ratio of its matches with its outliers clustered, and every provisional
+  // A pose backed by less than min_inlier_ratio of its matches with its outliers clustered, and every provisional
   // pose, must lie within this χ² (6 degrees of freedom) of the motion model's prediction: 22.46 is its 99.9 %
-  // quantile. A clear majority of inliers, or outliers spread like noise, outweigh the prediction: a real jerk of
-  // the camera (fr1_rpy: right poses of fast turns at χ² 30-34, their outliers spread).
+  // quantile. A good share of inliers, or outliers spread like noise, outweigh the prediction: a real jerk of the
+  // camera (fr1_rpy: right poses of fast turns at χ² 30-56, keeping 24-44 % of their matches).
   double max_motion_chi2 = 22.46;
   // A frame with few keypoints (people fill the view, the filter dropped most of it) is tracked on what it has,
   // by support rather than count: an inlier nearer than the close depth counts close_inlier_weight times (its
@@ -103,8 +103,8 @@ struct PoseVerdict {
   // and keeps the pose more matches back (the prediction may have led to the wrong corners).
   bool doubtful = false;
   // The map may be extended from the pose (a keyframe, new points, the safety net's verdicts): at least
-  // min_inlier_ratio of its matches back it. A pose pulled a little by people whose points made it into the map,
-  // or found in a blurred turn, is still reported, but no keyframe made on it carries its error into the map.
+  // min_inlier_ratio of its matches back it, or its outliers spread like noise. A pose pulled a little by people
+  // whose points made it into the map is still reported, but no keyframe made on it carries the pull into the map.
   bool mappable = false;
   PoseRejection rejection = PoseRejection::kNone;
 };
