@@ -155,7 +155,7 @@ struct FrameResult {
   std::string method;   // how the pose was found: initialization, motion_model, reference_keyframe, relocalization, none
   // Why a lost frame was lost: too_few_keypoints, too_few_matches, pose_rejected, relocalization_refuted; else
   // empty. A refused pose also says why in `rejection` (too_few_inliers, too_little_support, contradicted,
-  // outliers_clustered, against_motion).
+  // outliers_clustered, against_motion; for a relocalisation, ambiguous).
   std::string failure;
   std::string rejection;
   // This frame refuted a provisional pose found after a loss: the indices of the frames tracked provisionally

@@ -505,6 +505,35 @@ TEST(System, AWallThatRepeatsItselfIsNotTakenForALoop) {
   EXPECT_LT((trajectory.back().T_wc.translation() - TrueCentre(path.back(), path[0])).norm(), 0.05);
 }
 
+// Two places alike: the wall repeats itself, and both copies are mapped. Lost long (no motion to go by), the camera
+// shows a view both copies fit: neither is taken.
+TEST(System, ARelocalisationBetweenTwoPlacesAlikeIsNotMade) {
+  const cv::Mat tile = MakeTexture(11, {700, 480});
+  cv::Mat texture;
+  cv::hconcat(std::vector<cv::Mat>{tile, tile, tile}, texture);
+  std::vector<cv::Point> path = {{0, 0}};
+  AddLeg(path, {0, 0}, {1400, 0}, 14);
+  SystemOptions options = Options();
+  options.tracking.new_map_after = 0.0;  // no new map on the other wall
+  System system(options);
+  int k = 0;
+  for (; k < static_cast<int>(path.size()); ++k) {
+    const core::RgbdFrame frame = ViewAt(texture, path[static_cast<std::size_t>(k)], k);
+    ASSERT_EQ(system.Track(frame, system.Extract(frame.rgb), {}).state, TrackingState::kOk) << "frame " << k;
+  }
+  // Two seconds of another wall, then the view at 350 px, which the wall shows again at 1050.
+  const cv::Mat elsewhere = MakeTexture(99, {1340, 980});
+  for (const int end = k + 60; k < end; ++k) {
+    ASSERT_EQ(system.Track(ViewAt(elsewhere, {0, 0}, k), system.Extract(ViewAt(elsewhere, {0, 0}, k).rgb), {}).state,
+              TrackingState::kLost);
+  }
+  const core::RgbdFrame twin = ViewAt(texture, {350, 0}, k);
+  const TrackResult result = system.Track(twin, system.Extract(twin.rgb), {});
+  EXPECT_EQ(result.state, TrackingState::kLost);
+  EXPECT_EQ(result.method, TrackingMethod::kRelocalization);
+  EXPECT_EQ(result.rejection, PoseRejection::kAmbiguous);
+}
+
 TEST(System, RejectsBadInput) {
   SystemOptions bad = Options();
   bad.bf = 0.0;

@@ -117,9 +117,12 @@ TrackResult Tracker::Track(Frame frame) {
       chosen = state_ == TrackingState::kLost ? Recover(frame, context, gap) : TrackFollowing(frame, context);
       if (chosen.accepted()) {
         if (state_ == TrackingState::kProvisional) {
-          // (Less a microsecond: stamps at an exact rate land a hair short of the interval they span.)
-          confirms = static_cast<int>(provisional_->frames.size()) + 1 >= options_.confirmation_frames &&
-                     frame.timestamp - provisional_->since >= options_.confirmation_seconds - 1e-6;
+          // The frames tracked in a row, this one included. (Less a microsecond: stamps at an exact rate land a
+          // hair short of the interval they span.)
+          const int streak = provisional_->streak + 1;
+          const double since = provisional_->streak > 0 ? provisional_->streak_since : frame.timestamp;
+          confirms = streak >= options_.confirmation_frames &&
+                     frame.timestamp - since >= options_.confirmation_seconds - 1e-6;
         }
         if ((state_ == TrackingState::kOk || confirms) && chosen.verdict.mappable) {
           moving = CountOnMapPoints(chosen);
@@ -194,7 +197,10 @@ TrackResult Tracker::Track(Frame frame) {
       provisional_ = Provisional{frame.timestamp, records_.size(), {}, standing_};
       state_ = TrackingState::kProvisional;
     }
-    if (state_ == TrackingState::kProvisional) provisional_->frames.push_back(frame.id);
+    if (state_ == TrackingState::kProvisional) {
+      if (provisional_->streak++ == 0) provisional_->streak_since = frame.timestamp;
+      provisional_->frames.push_back(frame.id);
+    }
     if (confirms) {
       spdlog::debug("frame {}: the pose found at {:.3f} is confirmed after {} frames", frame.id, provisional_->since,
                     provisional_->frames.size());
@@ -211,6 +217,8 @@ TrackResult Tracker::Track(Frame frame) {
       if (ruled_out || frame.timestamp - provisional_->since > options_.max_provisional_seconds) {
         result.withdrawn = Withdraw();
         result.failure = TrackingFailure::kRelocalizationRefuted;
+      } else {
+        provisional_->streak = 0;
       }
     } else if (state_ == TrackingState::kOk) {
       state_ = TrackingState::kLost;
@@ -338,32 +346,64 @@ PoseHypothesis Tracker::TrackFollowing(const Frame& frame, const TrackingContext
 }
 
 PoseHypothesis Tracker::Recover(const Frame& frame, const TrackingContext& context, double gap) const {
+  // After a short loss a pose found must lie where the camera could have gone since, moving on as it was: within the
+  // spread its acceleration allows, ½ a τ² (half the soft prior's, which leaves room to be safe: χ² four times the
+  // prior's). A pose in another map's world frame cannot be compared.
+  const auto reachable = [&](const Frame& estimate) -> std::optional<double> {
+    if (context.prior == nullptr || context.reference_keyframe == nullptr ||
+        estimate.reference_keyframe->map_id() != context.reference_keyframe->map_id()) {
+      return std::nullopt;
+    }
+    return 4.0 * PriorChi2(estimate.T_cw, *context.prior);
+  };
+  const double max_chi2 = options_.acceptance.max_motion_chi2;
   PoseHypothesis found;
   // Lost for a moment (people filled the view): the camera is most likely where it was heading.
   if (context.last != nullptr && gap <= options_.max_motion_gap) {
     found = searches_.FromPrediction(frame, context);
-    if (found.accepted()) return found;
+    if (found.accepted() && reachable(*found.frame).value_or(0.0) <= max_chi2) return found;
   }
   // Lost long, the frame may be in any map; else in the one it was tracked in.
   const std::optional<MapId> map = new_map_opened_ ? std::nullopt : std::optional(map_.active_map());
   const bow::ImageWords words = DescribePlace(vocabulary_, *frame.keypoints);
-  const std::vector<KeyFrame*> candidates = relocalizer_.Candidates(words, context.reference_keyframe, map);
-  // After a short loss the pose must agree with where the motion model puts the camera, as far as the time lost
-  // lets it wander (a pose in another map's world frame cannot be compared).
-  const auto plausible = [&](const Frame& estimate) {
-    if (context.prior == nullptr || context.reference_keyframe == nullptr ||
-        estimate.reference_keyframe->map_id() != context.reference_keyframe->map_id()) {
-      return true;
+  PoseHypothesis relocalized;
+  relocalized.method = TrackingMethod::kRelocalization;
+  std::vector<RelocalizedPose> poses = relocalizer_.Relocalize(
+      frame, words, relocalizer_.Candidates(words, context.reference_keyframe, map), relocalized.failure);
+  // Of the places the frame looks like, the one the motion model allows most after a short loss; otherwise the best
+  // backed, unless another place fits it about as well.
+  std::optional<std::size_t> chosen;
+  double best_chi2 = max_chi2;
+  for (std::size_t p = 0; p < poses.size(); ++p) {
+    const std::optional<double> chi2 = reachable(poses[p].frame);
+    spdlog::debug("frame {}: relocalised by keyframe {} on {} inliers, χ² {:.1f} from the motion model's prediction",
+                  frame.id, poses[p].frame.reference_keyframe->id(), poses[p].inliers, chi2.value_or(-1.0));
+    if (chi2 && *chi2 <= best_chi2) {
+      best_chi2 = *chi2;
+      chosen = p;
     }
-    const double chi2 = PriorChi2(estimate.T_cw, *context.prior);
-    if (chi2 <= options_.acceptance.max_motion_chi2) return true;
-    spdlog::debug("frame {}: relocalisation candidate keyframe {}: χ² {:.1f} from the motion model's prediction",
-                  frame.id, estimate.reference_keyframe->id(), chi2);
-    return false;
-  };
-  PoseHypothesis first = relocalizer_.Relocalize(frame, words, candidates, plausible);
-  if (!first.frame) return Better(std::move(found), std::move(first));
-  return searches_.ConfirmWithLocalMap(std::move(*first.frame), TrackingMethod::kRelocalization, context);
+  }
+  const bool comparable = std::any_of(poses.begin(), poses.end(), [&](const RelocalizedPose& p) {
+    return reachable(p.frame).has_value();
+  });
+  if (!comparable && !poses.empty()) {
+    if (poses.size() > 1 && relocalizer_.Ambiguous(poses[0], poses[1])) {
+      spdlog::debug("frame {}: two places fit it alike ({} and {} inliers): neither is taken", frame.id,
+                    poses[0].inliers, poses[1].inliers);
+      relocalized.failure = TrackingFailure::kPoseRejected;
+      relocalized.verdict.rejection = PoseRejection::kAmbiguous;
+      return Better(std::move(found), std::move(relocalized));
+    }
+    chosen = 0;
+  }
+  if (!chosen) {
+    if (!poses.empty()) {
+      relocalized.failure = TrackingFailure::kPoseRejected;
+      relocalized.verdict.rejection = PoseRejection::kAgainstMotion;
+    }
+    return Better(std::move(found), std::move(relocalized));
+  }
+  return searches_.ConfirmWithLocalMap(std::move(poses[*chosen].frame), TrackingMethod::kRelocalization, context);
 }
 
 std::vector<MapPoint*> Tracker::CountOnMapPoints(const PoseHypothesis& hypothesis) const {

@@ -57,9 +57,10 @@ struct TrackerOptions {
   // there but has enough keypoints with depth starts the new map; loop closing merges it into an earlier map once it
   // recognises a place of that map. 0: never; the camera stays lost until relocalised in the map.
   double new_map_after = 1.0;
-  // A pose found after a loss stays provisional until it has been tracked for confirmation_seconds and over
-  // confirmation_frames frames, itself included — three frames make two motions, the second checked against the
-  // first: a pose that the local map corrects on the next frame leaves a jump the frame after cannot continue.
+  // A pose found after a loss stays provisional until it has been tracked, frame after frame, for
+  // confirmation_seconds and over confirmation_frames frames, itself included — three frames make two motions, the
+  // second checked against the first: a pose that the local map corrects on the next frame leaves a jump the frame
+  // after cannot continue. A frame lost in between starts the count again.
   double confirmation_seconds = 0.2;
   int confirmation_frames = 3;
   // A provisional pose is refuted by a frame whose pose a good share of its matches backs (PoseAcceptanceOptions::
@@ -145,6 +146,10 @@ class Tracker {
     std::size_t first_record = 0;   // its index in records_
     std::vector<std::uint64_t> frames;  // ids of the frames tracked since, itself included
     Standing before;                // tracking before the loss
+    // The frames tracked in a row up to the last one, and the stamp of the first of them: a frame lost between
+    // starts the count again, since the motion is checked from frame to frame.
+    int streak = 0;
+    double streak_since = 0.0;
   };
 
   bool Initialize(Frame& frame);

@@ -288,7 +288,10 @@ class OfficeDrawer {
 
   std::optional<OfficePlan> Draw() {
     OfficeLayout& layout = plan_.layout;
-    layout.room = {Rounded(random_.Uniform(6.0, 10.0), 2), Rounded(random_.Uniform(5.0, 8.0), 2),
+    // Rooms an RGB-D sensor can work in: from anywhere inside, most of what the camera faces lies within its
+    // depth range (4.5 m). In a 10 m room a camera facing the far wall saw nothing with depth, and no RGB-D
+    // tracker has anything to hold on to there.
+    layout.room = {Rounded(random_.Uniform(6.0, 8.5), 2), Rounded(random_.Uniform(5.0, 7.0), 2),
                    Rounded(random_.Uniform(2.6, 3.2), 2)};
     layout.walls.emplace();
     DrawDoorAndBareStretch();
@@ -736,10 +739,12 @@ class CameraPlanner {
 
   const Vector2d& RandomCameraSpot() { return Pick(random_, office_.free.camera); }
 
-  // Something worth looking at from `eye`, at least `nearest` metres away: a desk, a shelf, a poster, or a
-  // random point of a wall.
+  // Something worth looking at from `eye`, at least `nearest` metres away and, where there is such a thing, within
+  // kViewReach, where the depth sensor sees it: a desk, a shelf, a poster, or a random point of a wall.
   Vector3d RandomTarget(const Vector3d& eye, double nearest) {
-    for (int tries = 0; tries < 20; ++tries) {
+    static constexpr double kViewReach = 3.5;  // metres
+    std::optional<Vector3d> farther;  // beyond the reach, for a room where nothing lies within it
+    for (int tries = 0; tries < 40; ++tries) {
       Vector3d target;
       if (random_.Bernoulli(0.7) && !office_.targets.empty()) {
         target = Pick(random_, office_.targets);
@@ -749,8 +754,12 @@ class CameraPlanner {
             WallPoint(office_.layout.room, wall, random_.Uniform(0.3, WallLength(office_.layout.room, wall) - 0.3));
         target = {xy.x(), xy.y(), random_.Uniform(1.0, 1.9)};
       }
-      if ((target - eye).head<2>().norm() >= nearest) return target;
+      const double distance = (target - eye).head<2>().norm();
+      if (distance < nearest) continue;
+      if (distance <= kViewReach) return target;
+      if (!farther) farther = target;
     }
+    if (farther) return *farther;
     // Far enough in any room: the farthest corner at eye height.
     const Vector3d& room = office_.layout.room;
     return {eye.x() < room.x() / 2.0 ? room.x() : 0.0, eye.y() < room.y() / 2.0 ? room.y() : 0.0, eye.z()};

@@ -13,13 +13,14 @@
 namespace hoidslam::slam {
 namespace {
 
-constexpr core::EnumNames<PoseRejection, 6> kRejectionNames = {{
+constexpr core::EnumNames<PoseRejection, 7> kRejectionNames = {{
     {PoseRejection::kNone, "none"},
     {PoseRejection::kTooFewInliers, "too_few_inliers"},
     {PoseRejection::kTooLittleSupport, "too_little_support"},
     {PoseRejection::kContradicted, "contradicted"},
     {PoseRejection::kOutliersClustered, "outliers_clustered"},
     {PoseRejection::kAgainstMotion, "against_motion"},
+    {PoseRejection::kAmbiguous, "ambiguous"},
 }};
 
 PoseVerdict Refused(PoseRejection why) { return {false, false, false, why}; }

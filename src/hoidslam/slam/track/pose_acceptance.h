@@ -94,6 +94,7 @@ enum class PoseRejection {
   kContradicted,       // too small a share of its matches kept, the outliers spread
   kOutliersClustered,  // too small a share kept, whole regions of the image disagreeing
   kAgainstMotion,      // far from where the camera was heading, without a clear majority to say otherwise
+  kAmbiguous,          // relocalisation: two places fit the frame about as well
 };
 std::string_view ToString(PoseRejection rejection);
 

@@ -17,6 +17,11 @@ void RelocalizationOptions::Check() const {
   core::CheckShare(descriptor_ratio, "Tracking.relocalizationDescriptorRatio");
   core::CheckPositive(projection_radius, "Tracking.relocalizationProjectionRadius");
   core::CheckPositive(min_inliers, "Tracking.minInliersAfterRelocalization");
+  core::CheckInRange(max_poses, 1, 100, "Tracking.relocalizationMaxPoses");
+  core::CheckInRange(max_tries, 1, 1000, "Tracking.relocalizationMaxTries");
+  core::CheckPositive(ambiguous_distance, "Tracking.relocalizationAmbiguousDistance");
+  core::CheckPositive(ambiguous_angle_deg, "Tracking.relocalizationAmbiguousAngle");
+  core::CheckShare(ambiguous_share, "Tracking.relocalizationAmbiguousShare");
 }
 
 Relocalizer::Relocalizer(const Map& map, const RelocalizationOptions& options, const FrameTrackerOptions& tracking)
@@ -62,8 +67,8 @@ std::vector<std::pair<int, std::size_t>> Relocalizer::RankByMatches(const Frame&
   return ranked;
 }
 
-std::optional<Frame> Relocalizer::TryCandidate(const Frame& frame, KeyFrame& candidate,
-                                               std::vector<MapPoint*> matches) const {
+std::optional<RelocalizedPose> Relocalizer::TryCandidate(const Frame& frame, KeyFrame& candidate,
+                                                        std::vector<MapPoint*> matches) const {
   Frame estimate = frame;
   ClearMatches(estimate);
   estimate.map_points = std::move(matches);
@@ -89,27 +94,46 @@ std::optional<Frame> Relocalizer::TryCandidate(const Frame& frame, KeyFrame& can
                 candidate.id(), consistent, good);
   if (good < options_.min_inliers) return std::nullopt;
   estimate.reference_keyframe = &candidate;
-  return estimate;
+  return RelocalizedPose{std::move(estimate), good};
 }
 
-PoseHypothesis Relocalizer::Relocalize(const Frame& frame, const bow::ImageWords& words,
-                                       const std::vector<KeyFrame*>& candidates,
-                                       const std::function<bool(const Frame&)>& plausible) const {
-  PoseHypothesis result;
-  result.method = TrackingMethod::kRelocalization;
-  result.failure = TrackingFailure::kTooFewMatches;
-  if (frame.size() < tracking_.min_descriptor_matches || candidates.empty()) return result;
+std::vector<RelocalizedPose> Relocalizer::Relocalize(const Frame& frame, const bow::ImageWords& words,
+                                                     const std::vector<KeyFrame*>& candidates,
+                                                     TrackingFailure& failure) const {
+  failure = TrackingFailure::kTooFewMatches;
+  std::vector<RelocalizedPose> poses;
+  if (frame.size() < tracking_.min_descriptor_matches || candidates.empty()) return poses;
   std::vector<std::vector<MapPoint*>> matches;
+  int tries = 0;
   for (const auto& [count, c] : RankByMatches(frame, words, candidates, matches)) {
+    if (tries++ >= options_.max_tries || static_cast<int>(poses.size()) >= options_.max_poses) break;
     spdlog::debug("frame {}: relocalisation candidate keyframe {}: {} matches", frame.id, candidates[c]->id(), count);
-    result.failure = TrackingFailure::kPoseRejected;
-    std::optional<Frame> found = TryCandidate(frame, *candidates[c], std::move(matches[c]));
-    if (!found || (plausible && !plausible(*found))) continue;
-    result.failure = TrackingFailure::kNone;
-    result.frame = std::move(found);
-    return result;
+    failure = TrackingFailure::kPoseRejected;
+    std::optional<RelocalizedPose> found = TryCandidate(frame, *candidates[c], std::move(matches[c]));
+    if (!found) continue;
+    // Two candidates of one place give one pose: the better backed is kept.
+    const auto same = std::find_if(poses.begin(), poses.end(),
+                                   [&](const RelocalizedPose& p) { return SamePlace(p, *found); });
+    if (same == poses.end()) {
+      poses.push_back(std::move(*found));
+    } else if (found->inliers > same->inliers) {
+      *same = std::move(*found);
+    }
   }
-  return result;
+  std::stable_sort(poses.begin(), poses.end(),
+                   [](const RelocalizedPose& a, const RelocalizedPose& b) { return a.inliers > b.inliers; });
+  if (!poses.empty()) failure = TrackingFailure::kNone;
+  return poses;
+}
+
+bool Relocalizer::Ambiguous(const RelocalizedPose& best, const RelocalizedPose& other) const {
+  return !SamePlace(best, other) && other.inliers >= options_.ambiguous_share * best.inliers;
+}
+
+bool Relocalizer::SamePlace(const RelocalizedPose& a, const RelocalizedPose& b) const {
+  const core::Pose relative = a.frame.T_cw * b.frame.T_cw.inverse();
+  return relative.translation().norm() <= options_.ambiguous_distance &&
+         core::RotationAngleDegrees(relative.linear()) <= options_.ambiguous_angle_deg;
 }
 
 }  // namespace hoidslam::slam
