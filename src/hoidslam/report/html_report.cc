@@ -341,8 +341,10 @@ std::string Header(const RunReport& report) {
                fmt::format("{} of {}", report.keypoints_dropped, report.keypoints_extracted));
   if (report.comparison) {
     const eval::Evaluation& e = report.comparison->evaluation;
+    // An ATE says nothing without the frames it was measured on: a lost frame has no error to count.
     html += Card("ATE RMSE", FormatSignificant(e.ate.error.rmse, 3) + " m",
-                 fmt::format("max {} m, {} poses", FormatSignificant(e.ate.error.max, 3), e.ate.error.count));
+                 fmt::format("on {} of {} frames tracked; max {} m", e.ate.error.count, report.frames,
+                             FormatSignificant(e.ate.error.max, 3)));
     html += Card("RPE translation", FormatSignificant(e.rpe.translation.rmse, 3) + " m",
                  "RMSE " + RpeStep(e.options.rpe));
     html += Card("RPE rotation", FormatSignificant(e.rpe.rotation_deg.rmse, 3) + " °",
