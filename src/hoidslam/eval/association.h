@@ -11,6 +11,9 @@
 
 namespace hoidslam::eval {
 
+// hoidslam writes stamps to the microsecond: a stamp read back is the same frame's within this.
+inline constexpr double kWrittenStampTolerance = 1e-4;
+
 struct AssociationOptions {
   double max_difference = 0.02;  // --max-difference, seconds, > 0: a pair must differ by strictly less
   double offset = 0.0;           // --offset, seconds, finite: added to the second (estimated) stamps

@@ -13,9 +13,6 @@
 namespace hoidslam::eval {
 namespace {
 
-// keyframes.txt holds microsecond stamps, a loop's end its keyframe's exact one: they are the same frame within this.
-constexpr double kStampTolerance = 1e-4;
-
 // A keyframe with its estimated pose and the true one at its stamp.
 struct Keyframe {
   double timestamp = 0.0;
@@ -163,7 +160,7 @@ LoopRecall ComputeLoopRecall(const core::Trajectory& groundtruth, const core::Tr
   for (ReturnEvent& event : result.events) {
     // A false loop recalls nothing: it joined the map at the wrong place.
     for (const CheckedPose& closure : check.poses) {
-      if (closure.wrong || closure.timestamp < event.start - kStampTolerance ||
+      if (closure.wrong || closure.timestamp < event.start - kWrittenStampTolerance ||
           closure.timestamp > event.end + options.close_within) {
         continue;
       }

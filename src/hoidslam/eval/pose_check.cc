@@ -6,13 +6,6 @@
 #include <nlohmann/json.hpp>
 
 namespace hoidslam::eval {
-namespace {
-
-// The estimated poses are written with microsecond stamps: a stamp asked for matches the pose within this.
-constexpr double kStampTolerance = 1e-4;
-
-}  // namespace
-
 std::size_t PoseCheck::Wrong() const {
   return static_cast<std::size_t>(std::count_if(poses.begin(), poses.end(), [](const CheckedPose& p) {
     return p.wrong;
@@ -35,7 +28,7 @@ PoseCheck CheckPoses(const core::Trajectory& groundtruth, const core::Trajectory
     }
     const core::StampedPose& pose = est[ClosestIndex(est_stamps, stamp)];
     const core::StampedPose& truth = gt[ClosestIndex(gt_stamps, pose.timestamp + association.offset)];
-    if (std::abs(pose.timestamp - stamp) > kStampTolerance ||
+    if (std::abs(pose.timestamp - stamp) > kWrittenStampTolerance ||
         !(std::abs(truth.timestamp - (pose.timestamp + association.offset)) < association.max_difference)) {
       ++check.unmatched;
       continue;

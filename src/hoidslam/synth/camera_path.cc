@@ -16,6 +16,7 @@
 #include "hoidslam/io/rgbd_sequence.h"
 #include "hoidslam/io/trajectory_file.h"
 #include "hoidslam/synth/option_checks.h"
+#include "hoidslam/synth/plane_geometry.h"
 #include "hoidslam/synth/random.h"
 
 namespace hoidslam::synth {
@@ -29,8 +30,6 @@ constexpr core::EnumNames<ProceduralMotion, 6> kMotionNames = {{
     {ProceduralMotion::kCircle, "circle"},
     {ProceduralMotion::kWaypoints, "waypoints"},
 }};
-
-double Radians(double degrees) { return degrees * std::numbers::pi / 180.0; }
 
 // Camera axes in the world: x right, y down, z = forward.
 core::Pose PoseFromForward(const Eigen::Vector3d& position, const Eigen::Vector3d& forward,

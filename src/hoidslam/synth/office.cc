@@ -214,16 +214,11 @@ Box PanelBox(const OfficeLayout& layout, int wall, double along, double z, doubl
                  std::max(width, height), tint);
 }
 
-// Length of a wall, metres.
-double WallLength(const OfficeLayout& layout, Wall wall) {
-  return wall == Wall::kFront || wall == Wall::kBack ? layout.room.x() : layout.room.y();
-}
-
 // The box of a panel of the layout's own list.
 Box PanelOnWall(const OfficeLayout& layout, const WallPanel& panel, const TextureSet& textures) {
   // PanelBox measures along the walls counter-clockwise: the back and left walls run against x and y.
   const double along =
-      panel.wall == Wall::kBack || panel.wall == Wall::kLeft ? WallLength(layout, panel.wall) - panel.at : panel.at;
+      panel.wall == Wall::kBack || panel.wall == Wall::kLeft ? WallLength(layout.room, panel.wall) - panel.at : panel.at;
   const int wall = static_cast<int>(panel.wall);
   switch (panel.kind) {
     case PanelKind::kWhiteboard:
@@ -252,6 +247,38 @@ ObjectKind ParseObjectKind(std::string_view label, const std::string& parameter)
 }
 
 std::string_view ToString(Wall wall) { return core::EnumName(kWallNames, wall); }
+
+double WallLength(const Vector3d& room, Wall wall) {
+  return wall == Wall::kFront || wall == Wall::kBack ? room.x() : room.y();
+}
+
+Vector2d WallPoint(const Vector3d& room, Wall wall, double at) {
+  switch (wall) {
+    case Wall::kFront:
+      return {at, 0.0};
+    case Wall::kRight:
+      return {room.x(), at};
+    case Wall::kBack:
+      return {at, room.y()};
+    case Wall::kLeft:
+      break;
+  }
+  return {0.0, at};
+}
+
+Vector2d InwardNormal(Wall wall) {
+  switch (wall) {
+    case Wall::kFront:
+      return {0.0, 1.0};
+    case Wall::kRight:
+      return {-1.0, 0.0};
+    case Wall::kBack:
+      return {0.0, -1.0};
+    case Wall::kLeft:
+      break;
+  }
+  return {1.0, 0.0};
+}
 
 Wall ParseWall(std::string_view name, const std::string& parameter) {
   return core::ParseEnumName(kWallNames, name, parameter, "wall");
@@ -428,7 +455,7 @@ void OfficeLayout::Check(const std::string& source, const std::string& key, cons
       fail(fmt::format("walls[{}].{}", i, field), what);
     };
     if ((panel.size.array() <= 0.0).any()) panel_fail("size", "must be positive");
-    const double length = WallLength(*this, panel.wall);
+    const double length = WallLength(room, panel.wall);
     if (panel.at - panel.size.x() / 2.0 < 0.0 || panel.at + panel.size.x() / 2.0 > length) {
       panel_fail("at", fmt::format("a panel {} m wide at {} m does not fit the {} wall (0..{} m)", panel.size.x(),
                                    panel.at, ToString(panel.wall), length));

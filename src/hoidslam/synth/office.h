@@ -62,6 +62,12 @@ enum class Wall { kFront, kRight, kBack, kLeft };
 std::string_view ToString(Wall wall);  // "front", "right", "back", "left"
 // Parses the names ToString gives; throws InputError naming `parameter` otherwise.
 Wall ParseWall(std::string_view name, const std::string& parameter);
+// Length of the wall in a room of size `room` (x, y, height), metres.
+double WallLength(const Eigen::Vector3d& room, Wall wall);
+// The point on the floor plan `at` along the wall (as WallPanel::at measures it).
+Eigen::Vector2d WallPoint(const Eigen::Vector3d& room, Wall wall, double at);
+// The wall's unit normal into the room, on the floor plan.
+Eigen::Vector2d InwardNormal(Wall wall);
 
 enum class PanelKind { kPoster, kWhiteboard, kDoor };
 std::string_view ToString(PanelKind kind);  // "poster", "whiteboard", "door"

@@ -3,14 +3,14 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <numbers>
+
+#include "hoidslam/synth/plane_geometry.h"
 
 namespace hoidslam::synth {
 namespace {
 
 using Eigen::Vector3d;
 
-constexpr double kPi = std::numbers::pi;
 constexpr double kHipSwing = 0.45;    // radians, peak thigh swing at full stride
 constexpr double kKneeBend = 0.9;     // radians, scales the swing leg's knee bend
 constexpr double kArmSwing = 0.6;     // arm swing as a fraction of the opposite thigh swing

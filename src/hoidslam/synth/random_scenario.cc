@@ -8,7 +8,6 @@
 #include <cmath>
 #include <deque>
 #include <limits>
-#include <numbers>
 #include <optional>
 #include <set>
 #include <string_view>
@@ -18,6 +17,7 @@
 #include "hoidslam/core/error.h"
 #include "hoidslam/synth/camera_path.h"
 #include "hoidslam/synth/office.h"
+#include "hoidslam/synth/plane_geometry.h"
 #include "hoidslam/synth/random.h"
 #include "hoidslam/synth/textures.h"
 #include "hoidslam/synth/world.h"
@@ -29,7 +29,6 @@ using Eigen::Vector2d;
 using Eigen::Vector3d;
 using nlohmann::json;
 
-constexpr double kPi = std::numbers::pi;
 constexpr double kFps = 30.0;
 // Draws that fail a check are replaced; this many failing in a row would mean a bug, not bad luck.
 constexpr std::uint64_t kMaxDraws = 100;
@@ -51,10 +50,6 @@ constexpr double kFastestWalk = 0.8;
 constexpr double kLongestWalk = 10.0;           // seconds a walk lasts at most, unless it needs more at kFastestWalk
 constexpr double kPersonCameraDistance = 0.45;  // nobody walks through whoever holds the camera
 
-double Radians(double degrees) { return degrees * kPi / 180.0; }
-double Degrees(double radians) { return radians * 180.0 / kPi; }
-Vector2d Direction(double yaw_rad) { return {std::cos(yaw_rad), std::sin(yaw_rad)}; }
-double Smooth(double s) { return s * s * (3.0 - 2.0 * s); }
 
 // `value` to `decimals` decimals, so that the document reads as a person would write it.
 double Rounded(double value, int decimals) {
@@ -113,43 +108,9 @@ struct Rect {
 
 constexpr std::array kWalls = {Wall::kFront, Wall::kRight, Wall::kBack, Wall::kLeft};
 
-double WallLength(const Vector3d& room, Wall wall) {
-  return wall == Wall::kFront || wall == Wall::kBack ? room.x() : room.y();
-}
-
-// The point of the wall `at` along it (WallPanel::at), on the floor plan.
-Vector2d WallPoint(const Vector3d& room, Wall wall, double at) {
-  switch (wall) {
-    case Wall::kFront:
-      return {at, 0.0};
-    case Wall::kRight:
-      return {room.x(), at};
-    case Wall::kBack:
-      return {at, room.y()};
-    case Wall::kLeft:
-      break;
-  }
-  return {0.0, at};
-}
-
-// The wall's normal into the room.
-Vector2d Inward(Wall wall) {
-  switch (wall) {
-    case Wall::kFront:
-      return {0.0, 1.0};
-    case Wall::kRight:
-      return {-1.0, 0.0};
-    case Wall::kBack:
-      return {0.0, -1.0};
-    case Wall::kLeft:
-      break;
-  }
-  return {1.0, 0.0};
-}
-
 // The rectangle of something `width` wide along the wall and `depth` deep, `gap` off the wall, centred `at`.
 Rect AgainstWall(const Vector3d& room, Wall wall, double at, double width, double depth, double gap) {
-  const Vector2d centre = WallPoint(room, wall, at) + Inward(wall) * (gap + depth / 2.0);
+  const Vector2d centre = WallPoint(room, wall, at) + InwardNormal(wall) * (gap + depth / 2.0);
   const bool along_x = wall == Wall::kFront || wall == Wall::kBack;
   return Rect::Around(centre, along_x ? Vector2d(width / 2.0, depth / 2.0) : Vector2d(depth / 2.0, width / 2.0));
 }
@@ -339,8 +300,8 @@ class OfficeDrawer {
     }
     const double door_at = (door_.from + door_.to) / 2.0;
     plan_.layout.walls->push_back({PanelKind::kDoor, door_.wall, Rounded(door_at, 3), 1.05, {0.95, 2.1}, 0});
-    plan_.door_spot = WallPoint(room(), door_.wall, door_at) + Inward(door_.wall) * 0.6;
-    plan_.door_inward_deg = Degrees(std::atan2(Inward(door_.wall).y(), Inward(door_.wall).x()));
+    plan_.door_spot = WallPoint(room(), door_.wall, door_at) + InwardNormal(door_.wall) * 0.6;
+    plan_.door_inward_deg = Degrees(std::atan2(InwardNormal(door_.wall).y(), InwardNormal(door_.wall).x()));
     kept_free_.push_back(AgainstWall(room(), door_.wall, door_at, 1.4, 1.3, 0.0));
     // A stretch of plain wall for the camera to stare at, and the floor in front of it.
     for (;;) {
@@ -367,7 +328,7 @@ class OfficeDrawer {
       // The floor in front of a shelf stays free, so that people can reach it.
       const Rect access = AgainstWall(room(), stretch->wall, at, width, 0.7, depth + 0.02);
       if (!Fits(rect, kWalkway) || !Fits(access, 0.05)) continue;
-      const Vector2d inward = Inward(stretch->wall);
+      const Vector2d inward = InwardNormal(stretch->wall);
       const Vector2d centre = (rect.lo + rect.hi) / 2.0;
       Shelf shelf;
       shelf.name = fmt::format("shelf_{}", plan_.layout.shelves.size() + 1);
@@ -396,7 +357,7 @@ class OfficeDrawer {
         // Against a wall, its back to it.
         const auto stretch = RandomStretch(desk.size.x(), 0.9);
         if (!stretch) continue;
-        const Vector2d inward = Inward(stretch->wall);
+        const Vector2d inward = InwardNormal(stretch->wall);
         footprint =
             AgainstWall(room(), stretch->wall, (stretch->from + stretch->to) / 2.0, desk.size.x(), desk.size.y(), 0.05);
         desk.yaw_deg = std::round(Degrees(std::atan2(-inward.y(), -inward.x()))) - 90.0;
@@ -549,7 +510,7 @@ class OfficeDrawer {
     for (int tries = 0; tries < 20; ++tries) {
       const auto stretch = RandomStretch(0.3, 0.5);
       if (!stretch || stretch->Overlaps(door_, 0.5) || stretch->Overlaps(plan_.bare, 0.3)) continue;
-      const Vector2d xy = WallPoint(room(), stretch->wall, stretch->from + 0.15) + Inward(stretch->wall) * 0.25;
+      const Vector2d xy = WallPoint(room(), stretch->wall, stretch->from + 0.15) + InwardNormal(stretch->wall) * 0.25;
       if (plan_.layout.IsBlocked(xy, 0.4) || !Fits(Rect::Around(xy, Vector2d::Constant(0.15)), 0.4)) continue;
       AddObject(random_.Bernoulli(0.5) ? ObjectKind::kBottle : ObjectKind::kBook, xy, random_.Uniform(-180.0, 180.0));
       plan_.occupied.emplace_back(xy, 0.2);
@@ -832,7 +793,7 @@ class CameraPlanner {
       if ((target - eye).head<2>().norm() < nearest) return std::nullopt;
       const auto [yaw, pitch] = Look(eye, target);
       target_yaw += std::remainder(yaw - target_yaw, 360.0);
-      const double w = Smooth(std::min(1.0, t / turn_time));
+      const double w = Smoothstep(std::min(1.0, t / turn_time));
       PlannedPose pose{from.time + t, eye, from.yaw + w * (target_yaw - from.yaw),
                        from.pitch + w * (pitch - from.pitch), (1.0 - w) * from.roll};
       if (std::abs(pose.yaw - previous_yaw) / (duration / steps) > 1.2 * kWalkTurnRate) return std::nullopt;
@@ -974,7 +935,7 @@ class CameraPlanner {
       for (int i = 1; i <= steps; ++i) {
         const double t = stretch * i / steps;
         const double ease =
-            Smooth(std::min(1.0, 2.0 * frequency * t)) * Smooth(std::min(1.0, 2.0 * frequency * (stretch - t)));
+            Smoothstep(std::min(1.0, 2.0 * frequency * t)) * Smoothstep(std::min(1.0, 2.0 * frequency * (stretch - t)));
         const double offset = amplitude * ease * std::sin(2.0 * kPi * frequency * t);
         PlannedPose pose = base;
         pose.time = start + t;
@@ -1000,7 +961,7 @@ class CameraPlanner {
       const double height = random_.Uniform(1.3, 1.6);
       const double pitch = random_.Uniform(-6.0, 4.0);
       const Vector2d on_wall = WallPoint(room, bare.wall, at);
-      const Vector2d xy = on_wall + Inward(bare.wall) * distance;
+      const Vector2d xy = on_wall + InwardNormal(bare.wall) * distance;
       const Vector3d eye(xy.x(), xy.y(), height);
       const Vector3d target(on_wall.x(), on_wall.y(), height + distance * std::tan(Radians(pitch)));
       auto walk = PlanWalk(Last(), eye, target, random_.Uniform(kSlowestWalk, 0.6), 0.55);

@@ -17,6 +17,7 @@
 #include "hoidslam/core/error.h"
 #include "hoidslam/io/rgbd_sequence.h"
 #include "hoidslam/synth/sequence_writer.h"
+#include "hoidslam/synth/test_scenarios.h"
 #include "hoidslam/synth/world.h"
 #include "support/temp_dir.h"
 
@@ -27,11 +28,6 @@ namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
 constexpr double kDegree = std::numbers::pi / 180.0;
-
-const TextureSet& Textures() {
-  static const TextureSet textures;
-  return textures;
-}
 
 // The scenarios of seeds 0 to count - 1, drawn once for all the tests of one run (about 10 ms a seed). The span
 // holds until a call with a larger count.
@@ -69,36 +65,22 @@ std::pair<Wall, double> NearestWall(const OfficeLayout& office, const Eigen::Vec
                            [](const auto& a, const auto& b) { return a.second < b.second; });
 }
 
-Eigen::Vector2d Inward(Wall wall) {
-  switch (wall) {
-    case Wall::kFront:
-      return {0.0, 1.0};
-    case Wall::kRight:
-      return {-1.0, 0.0};
-    case Wall::kBack:
-      return {0.0, -1.0};
-    case Wall::kLeft:
-      break;
-  }
-  return {1.0, 0.0};
-}
-
 // True when the camera of `frame` looks squarely at a bare stretch of wall 0.55-1.25 m ahead: nothing on the wall
 // within 0.3 m of where the view meets it, and no furniture in between.
 bool StaresAtBareWall(const OfficeLayout& office, const CameraFrame& frame) {
   const Eigen::Vector2d xy = frame.T_wc.translation().head<2>();
   const auto [wall, distance] = NearestWall(office, xy);
   const Eigen::Vector3d forward = frame.T_wc.linear().col(2);
-  if (distance < 0.55 || distance > 1.25 || -forward.head<2>().dot(Inward(wall)) < std::cos(15.0 * kDegree)) {
+  if (distance < 0.55 || distance > 1.25 || -forward.head<2>().dot(InwardNormal(wall)) < std::cos(15.0 * kDegree)) {
     return false;
   }
-  const Eigen::Vector2d hit = xy - Inward(wall) * distance;
+  const Eigen::Vector2d hit = xy - InwardNormal(wall) * distance;
   const double at = wall == Wall::kFront || wall == Wall::kBack ? hit.x() : hit.y();
   for (const WallPanel& panel : *office.walls) {
     if (panel.wall == wall && std::abs(panel.at - at) < panel.size.x() / 2.0 + 0.3) return false;
   }
   for (double s = 0.0; s <= distance; s += 0.05) {
-    if (office.IsBlocked(xy - Inward(wall) * s, 0.0)) return false;
+    if (office.IsBlocked(xy - InwardNormal(wall) * s, 0.0)) return false;
   }
   return true;
 }
@@ -148,7 +130,7 @@ TEST(RandomScenario, DurationOutOfRangeNamesTheOption) {
 TEST(RandomScenario, TwoHundredSeedsParseAndPlan) {
   for (const Scenario& scenario : FirstSeeds(200)) {
     SCOPED_TRACE(scenario.name);
-    EXPECT_NO_THROW(World(scenario, Textures()));
+    EXPECT_NO_THROW(World(scenario, fixtures::DefaultTextures()));
     EXPECT_EQ(scenario.camera.procedural.frames, 2251U);
     EXPECT_LE(scenario.people.size(), 4U);
   }
@@ -224,7 +206,7 @@ TEST(RandomScenario, OverManySeedsEveryKindOfMomentAndCrowdOccurs) {
     nobody += scenario.people.empty() ? 1 : 0;
     several += scenario.people.size() >= 3 ? 1 : 0;
     // Someone 0.6-1.5 m in front of the camera, in its view.
-    const World world(scenario, Textures());
+    const World world(scenario, fixtures::DefaultTextures());
     bool near = false;
     for (std::size_t i = 0; i < frames.size() && !near; i += 3) {
       const double t = frames[i].timestamp - frames.front().timestamp;

@@ -10,8 +10,15 @@
 
 #include "hoidslam/synth/scenario.h"
 #include "hoidslam/synth/sequence_writer.h"
+#include "hoidslam/synth/textures.h"
 
 namespace hoidslam::synth::fixtures {
+
+// The default textures, made once for all the tests of a binary (making them takes a while).
+inline const TextureSet& DefaultTextures() {
+  static const TextureSet textures;
+  return textures;
+}
 
 // A scenario of `people_json` (the JSON array of people), `frames` frames at 10 Hz of a static camera.
 inline Scenario SmallScenario(const std::string& people_json, int frames = 12, const std::string& motion = "static") {

@@ -173,7 +173,7 @@ void AddLetters(cv::Mat& image, cv::Point origin, int count, double scale, const
 
 // ---- One generator per role. ----
 
-cv::Mat Wall(int s, Random& rng) {
+cv::Mat PaintedWall(int s, Random& rng) {
   cv::Mat image = Blend(FractalNoise(s, 4, 5, rng), {150, 165, 175}, {215, 225, 230});
   AddSpeckles(image, s / 2, 2, {90, 100, 110}, {240, 240, 245}, rng);
   AddGrain(image, 6, rng);
@@ -478,7 +478,7 @@ cv::Mat Generic(int s, Random& rng) {
 
 cv::Mat Procedural(TextureRole role, int variant, int s, Random& rng) {
   switch (role) {
-    case TextureRole::kWall: return Wall(s, rng);
+    case TextureRole::kWall: return PaintedWall(s, rng);
     case TextureRole::kFloor: return Floor(s, rng);
     case TextureRole::kCeiling: return Ceiling(s, rng);
     case TextureRole::kCarpet: return Carpet(s, rng);

@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "hoidslam/core/error.h"
+#include "hoidslam/synth/test_scenarios.h"
 #include "support/shared_data.h"
 #include "support/temp_dir.h"
 
@@ -34,13 +35,8 @@ std::string Message(const TextureOptions& options) {
   return "";
 }
 
-const TextureSet& DefaultTextures() {
-  static const TextureSet textures;
-  return textures;
-}
-
 TEST(Textures, EveryRoleHasItsVariantsAndMipmaps) {
-  const TextureSet& textures = DefaultTextures();
+  const TextureSet& textures = fixtures::DefaultTextures();
   const TextureOptions defaults;
   int expected = 0;
   for (int r = 0; r < kTextureRoleCount; ++r) {
@@ -69,7 +65,7 @@ TEST(Textures, EveryRoleHasItsVariantsAndMipmaps) {
 
 // ORB needs corners: every texture but skin (smooth on purpose) has many strong ones, and real contrast.
 TEST(Textures, ProceduralTexturesAreRichInCorners) {
-  const TextureSet& textures = DefaultTextures();
+  const TextureSet& textures = fixtures::DefaultTextures();
   for (int r = 0; r < kTextureRoleCount; ++r) {
     const auto role = static_cast<TextureRole>(r);
     for (int variant = 0; variant < textures.VariantCount(role); ++variant) {

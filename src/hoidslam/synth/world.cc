@@ -10,6 +10,7 @@
 
 #include "hoidslam/core/error.h"
 #include "hoidslam/synth/camera_path.h"
+#include "hoidslam/synth/plane_geometry.h"
 
 namespace hoidslam::synth {
 namespace {
@@ -33,8 +34,6 @@ constexpr double kWalkClearance = 0.3;    // metres kept free between a walking 
 constexpr double kChairClearance = 0.5;   // metres between a standing person and a chair's centre
 constexpr double kSitApproach = 0.3;      // metres in front of the seat centre where a person sits down from
 
-double Smooth(double s) { return s * s * (3.0 - 2.0 * s); }
-
 core::Pose YawPose(const Vector3d& t, double yaw) {
   core::Pose pose = core::Pose::Identity();
   pose.translate(t);
@@ -44,7 +43,6 @@ core::Pose YawPose(const Vector3d& t, double yaw) {
 
 double YawOf(const core::Pose& pose) { return std::atan2(pose.linear()(1, 0), pose.linear()(0, 0)); }
 
-Vector2d Direction(double yaw) { return {std::cos(yaw), std::sin(yaw)}; }
 double Heading(const Vector2d& d) { return std::atan2(d.y(), d.x()); }
 
 }  // namespace
@@ -563,7 +561,7 @@ std::optional<World::PersonInstant> World::PersonState(std::size_t index, double
   }
   if (time >= segment->t1) return PersonInstant{segment->b, segment, 1.0, false};  // done: at rest
   double s = (time - segment->t0) / (segment->t1 - segment->t0);
-  if (segment->eased) s = Smooth(s);
+  if (segment->eased) s = Smoothstep(s);
   return PersonInstant{Blend(segment->a, segment->b, s), segment, s, segment->moving};
 }
 

@@ -32,11 +32,6 @@ const char* kTwoPeople = R"([
     {"action": "leave", "to": [7.8, 1.0]}]}
 ])";
 
-const TextureSet& Textures() {
-  static const TextureSet textures;
-  return textures;
-}
-
 const WorldEvent& FindEvent(const World& world, const std::string& person, const std::string& action) {
   const auto& events = world.events();
   const auto it = std::find_if(events.begin(), events.end(),
@@ -47,7 +42,7 @@ const WorldEvent& FindEvent(const World& world, const std::string& person, const
 
 std::string PlanError(const std::string& people) {
   try {
-    World(fixtures::SmallScenario(people), Textures());
+    World(fixtures::SmallScenario(people), fixtures::DefaultTextures());
   } catch (const core::InputError& e) {
     return e.what();
   }
@@ -70,13 +65,13 @@ void ExpectUntouchedObjectsStill(const Scenario& scenario, const World& world) {
 
 TEST(World, ObjectsNobodyTouchesNeverMove) {
   const Scenario scenario = fixtures::SmallScenario(kTwoPeople);
-  const World world(scenario, Textures());
+  const World world(scenario, fixtures::DefaultTextures());
   ExpectUntouchedObjectsStill(scenario, world);
 }
 
 TEST(World, ACarriedObjectMovesWithTheHand) {
   const Scenario scenario = fixtures::SmallScenario(kTwoPeople);
-  const World world(scenario, Textures());
+  const World world(scenario, fixtures::DefaultTextures());
   const double picked = FindEvent(world, "a", "pick_up").time;
   const double put = FindEvent(world, "a", "put_down").time;
   // Between the end of the lift (0.7 s) and the start of the placing (0.8 s) the cup rides in the hand.
@@ -100,7 +95,7 @@ TEST(World, ACarriedObjectMovesWithTheHand) {
 
 TEST(World, AnObjectStaysWhereItWasPutDown) {
   const Scenario scenario = fixtures::SmallScenario(kTwoPeople);
-  const World world(scenario, Textures());
+  const World world(scenario, fixtures::DefaultTextures());
   const WorldEvent& put = FindEvent(world, "a", "put_down");
   const double taken_again = FindEvent(world, "b", "pick_up").time;
   ASSERT_TRUE(put.to.has_value());
@@ -120,7 +115,7 @@ TEST(World, AnObjectStaysWhereItWasPutDown) {
 
 TEST(World, PushedChairEndsWhereAsked) {
   const Scenario scenario = fixtures::SmallScenario(kTwoPeople);
-  const World world(scenario, Textures());
+  const World world(scenario, fixtures::DefaultTextures());
   const WorldEvent& push = FindEvent(world, "a", "push");
   EXPECT_NEAR(push.to->x(), 1.5, 1e-6);
   EXPECT_NEAR(push.to->y(), 2.0, 1e-6);
@@ -129,7 +124,7 @@ TEST(World, PushedChairEndsWhereAsked) {
 
 TEST(World, PeopleMoveExceptWhenTheyStandStill) {
   const Scenario scenario = fixtures::SmallScenario(kTwoPeople);
-  const World world(scenario, Textures());
+  const World world(scenario, fixtures::DefaultTextures());
   EXPECT_THAT(world.MovingAt(0.2), ::testing::Contains("a"));
   const double standing = FindEvent(world, "a", "stand_at").time + 1.0;
   EXPECT_THAT(world.MovingAt(standing), ::testing::Not(::testing::Contains("a")));
@@ -153,7 +148,7 @@ TEST(World, APersonTurnsOnTheSpotToFaceAPoint) {
   // Facing +x, a person turns to the camera of the fixture (4.0, 1.2), a quarter turn to their right.
   const World world(fixtures::SmallScenario(R"([{"name": "a", "start": [4.0, 2.4], "facing_deg": 0, "actions": [
       {"action": "face", "to": [4.0, 1.2]}, {"action": "stop", "duration": 2}]}])"),
-                    Textures());
+                    fixtures::DefaultTextures());
   EXPECT_THAT(world.MovingAt(0.2), ::testing::Contains("a"));
   const BodyPose turned = *world.PersonPose(0, 1.5);
   EXPECT_THAT(world.MovingAt(1.5), ::testing::Not(::testing::Contains("a")));
@@ -162,7 +157,7 @@ TEST(World, APersonTurnsOnTheSpotToFaceAPoint) {
 }
 
 TEST(World, PeopleAppearWhenTheyEnterAndVanishWhenTheyLeave) {
-  const World world(fixtures::SmallScenario(kTwoPeople), Textures());
+  const World world(fixtures::SmallScenario(kTwoPeople), fixtures::DefaultTextures());
   const int b_id = *world.InstanceId("b");
   auto has_b = [&](double t) {
     const SceneSnapshot s = world.Snapshot(t);
@@ -177,7 +172,7 @@ TEST(World, PeopleAppearWhenTheyEnterAndVanishWhenTheyLeave) {
 }
 
 TEST(World, IdsAreUniqueAndStable) {
-  const World world(fixtures::SmallScenario(kTwoPeople), Textures());
+  const World world(fixtures::SmallScenario(kTwoPeople), fixtures::DefaultTextures());
   const SceneSnapshot early = world.Snapshot(2.0);
   const SceneSnapshot late = world.Snapshot(20.0);
   std::set<int> ids;
@@ -193,7 +188,7 @@ TEST(World, IdsAreUniqueAndStable) {
 }
 
 TEST(World, NoPeopleNothingMoves) {
-  const World world(fixtures::SmallScenario("[]"), Textures());
+  const World world(fixtures::SmallScenario("[]"), fixtures::DefaultTextures());
   EXPECT_TRUE(world.events().empty());
   for (double t = 0.0; t < 5.0; t += 0.5) {
     EXPECT_TRUE(world.MovingAt(t).empty());
@@ -225,7 +220,7 @@ TEST(World, ShippedScenariosPlanAndLeaveUntouchedObjectsAlone) {
   for (const std::string& name : BuiltinScenarioNames()) {
     SCOPED_TRACE(name);
     const Scenario scenario = LoadScenario(name);
-    const World world(scenario, Textures());
+    const World world(scenario, fixtures::DefaultTextures());
     EXPECT_EQ(world.events().empty(), scenario.people.empty());
     // People are done within 40 s (the TUM paths last 24-36 s), or within a longer procedural camera path.
     const ProceduralPathOptions& procedural = scenario.camera.procedural;
@@ -238,7 +233,7 @@ TEST(World, ShippedScenariosPlanAndLeaveUntouchedObjectsAlone) {
 TEST(World, ShippedScenariosKeepPeopleOutOfDesksAndShelves) {
   for (const std::string& name : BuiltinScenarioNames()) {
     const Scenario scenario = LoadScenario(name);
-    const World world(scenario, Textures());
+    const World world(scenario, fixtures::DefaultTextures());
     for (std::size_t p = 0; p < scenario.people.size(); ++p) {
       for (double t = 0.0; t <= world.end_time(); t += 0.1) {
         const auto pose = world.PersonPose(p, t);
@@ -272,7 +267,7 @@ bool Overlap(ObjectKind kind_a, const core::Pose& a, ObjectKind kind_b, const co
 TEST(World, ShippedScenariosPutThingsWhereThereIsRoom) {
   for (const std::string& name : BuiltinScenarioNames()) {
     const Scenario scenario = LoadScenario(name);
-    const World world(scenario, Textures());
+    const World world(scenario, fixtures::DefaultTextures());
     // Check the office after every put-down and push, and at the start.
     std::vector<double> times = {0.0};
     for (const WorldEvent& event : world.events()) {

@@ -7,7 +7,7 @@
 namespace hoidslam::slam {
 namespace {
 
-struct Row {
+struct KeyFrameRow {
   std::string name;
   KeyFrameDecisionInput input;
   bool keyframe;
@@ -33,7 +33,7 @@ KeyFrameDecisionInput With(Change change) {
   return input;
 }
 
-class NeedNewKeyFrameTable : public ::testing::TestWithParam<Row> {};
+class NeedNewKeyFrameTable : public ::testing::TestWithParam<KeyFrameRow> {};
 
 TEST_P(NeedNewKeyFrameTable, DecidesByItsRule) {
   EXPECT_EQ(NeedNewKeyFrame(GetParam().input, KeyFrameDecisionOptions{}), GetParam().keyframe);
@@ -42,53 +42,53 @@ TEST_P(NeedNewKeyFrameTable, DecidesByItsRule) {
 INSTANTIATE_TEST_SUITE_P(
     Rules, NeedNewKeyFrameTable,
     ::testing::Values(
-        Row{"TrackingStrongAgainstTheReference", Steady(), false},
-        Row{"WeakerThanThreeQuartersOfTheReferenceMapperIdle", With([](auto& i) { i.inliers = 280; }), true},
-        Row{"WeakerMapperBusyWithinTheSecond", With([](auto& i) {
+        KeyFrameRow{"TrackingStrongAgainstTheReference", Steady(), false},
+        KeyFrameRow{"WeakerThanThreeQuartersOfTheReferenceMapperIdle", With([](auto& i) { i.inliers = 280; }), true},
+        KeyFrameRow{"WeakerMapperBusyWithinTheSecond", With([](auto& i) {
               i.inliers = 280;
               i.mapper_idle = false;
               i.mapper_queued = 1;
             }), false},
-        Row{"WeakerMapperBusyASecondOn", With([](auto& i) {
+        KeyFrameRow{"WeakerMapperBusyASecondOn", With([](auto& i) {
               i.inliers = 280;
               i.mapper_idle = false;
               i.mapper_queued = 1;
               i.since_keyframe = 1.0;
             }), true},
-        Row{"WeakerMapperBusyQueueFull", With([](auto& i) {
+        KeyFrameRow{"WeakerMapperBusyQueueFull", With([](auto& i) {
               i.inliers = 280;
               i.mapper_idle = false;
               i.mapper_queued = 3;
               i.since_keyframe = 2.0;
             }), false},
-        Row{"VeryWeakMapperBusy", With([](auto& i) {
+        KeyFrameRow{"VeryWeakMapperBusy", With([](auto& i) {
               i.inliers = 90;
               i.mapper_idle = false;
               i.mapper_queued = 1;
             }), true},
-        Row{"ManyCloseKeypointsUntracked", With([](auto& i) {
+        KeyFrameRow{"ManyCloseKeypointsUntracked", With([](auto& i) {
               i.close_tracked = 80;
               i.close_untracked = 200;
             }), true},
-        Row{"TooFewInliersForAnyKeyFrame", With([](auto& i) { i.inliers = 15; }), false},
-        Row{"LoopBeingCorrected", With([](auto& i) {
+        KeyFrameRow{"TooFewInliersForAnyKeyFrame", With([](auto& i) { i.inliers = 15; }), false},
+        KeyFrameRow{"LoopBeingCorrected", With([](auto& i) {
               i.inliers = 90;
               i.mapper_paused = true;
             }), false},
-        Row{"RightAfterARelocalisation", With([](auto& i) {
+        KeyFrameRow{"RightAfterARelocalisation", With([](auto& i) {
               i.inliers = 90;
               i.since_relocalization = 0.5;
             }), false},
-        Row{"RightAfterARelocalisationInAYoungMap", With([](auto& i) {
+        KeyFrameRow{"RightAfterARelocalisationInAYoungMap", With([](auto& i) {
               i.inliers = 90;
               i.since_relocalization = 0.5;
               i.map_keyframes = 10;
             }), true},
-        Row{"TheFirstKeyFrameAskedLess", With([](auto& i) {
+        KeyFrameRow{"TheFirstKeyFrameAskedLess", With([](auto& i) {
               i.map_keyframes = 1;
               i.inliers = 200;
             }), false}),
-    [](const ::testing::TestParamInfo<Row>& info) { return info.param.name; });
+    [](const ::testing::TestParamInfo<KeyFrameRow>& info) { return info.param.name; });
 
 }  // namespace
 }  // namespace hoidslam::slam

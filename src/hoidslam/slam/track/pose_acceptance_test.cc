@@ -17,7 +17,7 @@ namespace hoidslam::slam {
 namespace {
 
 // One row of the rule: the evidence of a pose and the verdict it must get.
-struct Row {
+struct VerdictRow {
   std::string name;
   PoseEvidence evidence;
   bool accepted;
@@ -50,10 +50,10 @@ PoseEvidence Weak(int keypoints, int matched, int inliers, double support) {
   return e;
 }
 
-class JudgePoseTable : public ::testing::TestWithParam<Row> {};
+class JudgePoseTable : public ::testing::TestWithParam<VerdictRow> {};
 
 TEST_P(JudgePoseTable, GivesTheVerdictOfItsRule) {
-  const Row& row = GetParam();
+  const VerdictRow& row = GetParam();
   const PoseVerdict verdict = JudgePose(row.evidence, PoseAcceptanceOptions{});
   EXPECT_EQ(verdict.accepted, row.accepted);
   EXPECT_EQ(verdict.rejection, row.rejection) << ToString(verdict.rejection);
@@ -66,45 +66,45 @@ INSTANTIATE_TEST_SUITE_P(
     Rules, JudgePoseTable,
     ::testing::Values(
         // A clear majority stands on its count.
-        Row{"ClearMajority", Evidence(600, 400, 6.0), true, PoseRejection::kNone},
+        VerdictRow{"ClearMajority", Evidence(600, 400, 6.0), true, PoseRejection::kNone},
         // fr1_rpy, a blurred fast turn: 140 of 493 matches kept, the outliers all over the image: right; the
         // reference keyframe is tried too (at 15 Hz on walking_xyz a pose keeping 40 of 425, its outliers spread,
         // was 57 mm off, and the reference keyframe's was right).
-        Row{"BlurredFastTurn", Evidence(493, 140, 1.4, 0.9), true, PoseRejection::kNone, true},
+        VerdictRow{"BlurredFastTurn", Evidence(493, 140, 1.4, 0.9), true, PoseRejection::kNone, true},
         // The outliers in whole regions (a person whose points made it into the map): doubtful, reported from 15 %
         // and mapped from 30 % (Mappable below), refused below 15 %.
-        Row{"PulledButBackedByAThird", Evidence(600, 200, 4.0, 1.0), true, PoseRejection::kNone, true},
-        Row{"PulledReportedNotMapped", Evidence(757, 160, 3.7, 5.6), true, PoseRejection::kNone, true, false},
-        Row{"PulledByAMover", Evidence(757, 100, 3.7, 5.6), false, PoseRejection::kOutliersClustered},
+        VerdictRow{"PulledButBackedByAThird", Evidence(600, 200, 4.0, 1.0), true, PoseRejection::kNone, true},
+        VerdictRow{"PulledReportedNotMapped", Evidence(757, 160, 3.7, 5.6), true, PoseRejection::kNone, true, false},
+        VerdictRow{"PulledByAMover", Evidence(757, 100, 3.7, 5.6), false, PoseRejection::kOutliersClustered},
         // Outliers spread, but so few inliers that nothing backs the pose (fr1_rpy's right poses keep 10 % and more).
-        Row{"MostlyContradicted", Evidence(494, 35, 1.5, 13.3), false, PoseRejection::kContradicted},
+        VerdictRow{"MostlyContradicted", Evidence(494, 35, 1.5, 13.3), false, PoseRejection::kContradicted},
         // A small share, regions of the image disagreeing, far from where the camera was heading (crowd without a
         // filter: 170 of 848, χ² 63) ...
-        Row{"AgainstTheMotion", Evidence(848, 170, 3.5, 63.0), false, PoseRejection::kAgainstMotion},
+        VerdictRow{"AgainstTheMotion", Evidence(848, 170, 3.5, 63.0), false, PoseRejection::kAgainstMotion},
         // ... where a good share outweighs the prediction (fr1_rpy: 275 of 623, χ² 56, a jerk of the camera).
-        Row{"JerkWithAGoodShare", Evidence(623, 275, 3.9, 56.3), true, PoseRejection::kNone, true},
+        VerdictRow{"JerkWithAGoodShare", Evidence(623, 275, 3.9, 56.3), true, PoseRejection::kNone, true},
         // The outliers spread like noise: the camera jerked (fr1_rpy: 216 of 687, χ² 34).
-        Row{"NoisyJerk", Evidence(687, 216, 1.7, 33.7), true, PoseRejection::kNone},
+        VerdictRow{"NoisyJerk", Evidence(687, 216, 1.7, 33.7), true, PoseRejection::kNone},
         // A clear majority outweighs the prediction: a real jerk of the camera (walking_xyz: 429 of 751, χ² 80).
-        Row{"JerkWithAClearMajority", Evidence(751, 429, 3.0, 80.0), true, PoseRejection::kNone},
+        VerdictRow{"JerkWithAClearMajority", Evidence(751, 429, 3.0, 80.0), true, PoseRejection::kNone},
         // ... unless the pose is provisional: a relocalisation must move as the camera was moving.
-        Row{"ProvisionalAgainstTheMotion", Provisional(Evidence(751, 429, 3.0, 80.0)), false,
+        VerdictRow{"ProvisionalAgainstTheMotion", Provisional(Evidence(751, 429, 3.0, 80.0)), false,
             PoseRejection::kAgainstMotion},
-        Row{"ProvisionalWithTheMotion", Provisional(Evidence(751, 429, 3.0, 2.0)), true, PoseRejection::kNone},
+        VerdictRow{"ProvisionalWithTheMotion", Provisional(Evidence(751, 429, 3.0, 2.0)), true, PoseRejection::kNone},
         // Counts: a frame with plenty of keypoints needs 30 inliers, a provisional pose 50; below the floor of 15
         // (in support) nothing stands.
-        Row{"BelowTheFloor", Weak(30, 20, 10, 12.0), false, PoseRejection::kTooLittleSupport},
+        VerdictRow{"BelowTheFloor", Weak(30, 20, 10, 12.0), false, PoseRejection::kTooLittleSupport},
         // A frame left with 18 keypoints: 10 close inliers support 15, the floor.
-        Row{"TenCloseInliersOnABareFrame", Weak(18, 11, 10, 15.0), true, PoseRejection::kNone},
-        Row{"ShortOfTheCountOnAFullFrame", Evidence(40, 29, 1.0), false, PoseRejection::kTooFewInliers},
-        Row{"ProvisionalShortOfItsCount", Provisional(Evidence(60, 45, 1.0)), false, PoseRejection::kTooFewInliers},
+        VerdictRow{"TenCloseInliersOnABareFrame", Weak(18, 11, 10, 15.0), true, PoseRejection::kNone},
+        VerdictRow{"ShortOfTheCountOnAFullFrame", Evidence(40, 29, 1.0), false, PoseRejection::kTooFewInliers},
+        VerdictRow{"ProvisionalShortOfItsCount", Provisional(Evidence(60, 45, 1.0)), false, PoseRejection::kTooFewInliers},
         // A frame with 60 keypoints (people fill the view): 20 inliers, close ones counting 1.5, are enough ...
-        Row{"FewKeypointsSupported", Weak(60, 40, 20, 24.0), true, PoseRejection::kNone},
+        VerdictRow{"FewKeypointsSupported", Weak(60, 40, 20, 24.0), true, PoseRejection::kNone},
         // ... when they carry enough support ...
-        Row{"FewKeypointsUnsupported", Weak(90, 40, 20, 20.0), false, PoseRejection::kTooLittleSupport},
+        VerdictRow{"FewKeypointsUnsupported", Weak(90, 40, 20, 20.0), false, PoseRejection::kTooLittleSupport},
         // ... and back at least 40 % of the matches (crowd: 22 of 50 stood, 15 of 50 would not).
-        Row{"FewKeypointsContradicted", Weak(60, 55, 20, 24.0), false, PoseRejection::kContradicted}),
-    [](const ::testing::TestParamInfo<Row>& info) { return info.param.name; });
+        VerdictRow{"FewKeypointsContradicted", Weak(60, 55, 20, 24.0), false, PoseRejection::kContradicted}),
+    [](const ::testing::TestParamInfo<VerdictRow>& info) { return info.param.name; });
 
 TEST(PoseAcceptanceOptions, CheckNamesTheParameter) {
   PoseAcceptanceOptions options;
