@@ -24,6 +24,10 @@ constexpr std::uint64_t FrameSeed(std::uint64_t scenario_seed, std::uint64_t fra
 }
 
 // A small, fast generator (SplitMix64) with the few distributions the generator needs.
+// Two draws never stand as the arguments of one call or the operands of one operator: the order those are
+// evaluated in is the compiler's (GCC and clang differ), and a seed must give the same bytes whatever built
+// hoidslam. Where two once stood in one call, the later argument is drawn first, the order of the published
+// sequences.
 class Random {
  public:
   explicit constexpr Random(std::uint64_t seed) : state_(seed) {}

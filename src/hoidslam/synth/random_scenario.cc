@@ -368,8 +368,8 @@ class OfficeDrawer {
         const bool along_x = desk.yaw_deg == 0.0 || desk.yaw_deg == 180.0;
         const Vector2d half = along_x ? Vector2d(desk.size.x() / 2.0, desk.size.y() / 2.0)
                                       : Vector2d(desk.size.y() / 2.0, desk.size.x() / 2.0);
-        const Vector2d centre(random_.Uniform(half.x() + 1.0, room().x() - half.x() - 1.0),
-                              random_.Uniform(half.y() + 1.0, room().y() - half.y() - 1.0));
+        const double centre_y = random_.Uniform(half.y() + 1.0, room().y() - half.y() - 1.0);
+        const Vector2d centre(random_.Uniform(half.x() + 1.0, room().x() - half.x() - 1.0), centre_y);
         footprint = Rect::Around(centre, half);
         const double yaw = Radians(desk.yaw_deg);
         front = Vector2d(std::sin(yaw), -std::cos(yaw));
@@ -438,7 +438,8 @@ class OfficeDrawer {
       const Vector3d ext = ObjectHalfExtents(kind);
       const double radius = std::hypot(ext.x(), ext.y()) + 0.02;
       if (hx - radius <= -hx + radius || hy - radius <= -hy + radius) continue;
-      const Vector2d local(random_.Uniform(-hx + radius, hx - radius), random_.Uniform(-hy + radius, hy - radius));
+      const double local_y = random_.Uniform(-hy + radius, hy - radius);
+      const Vector2d local(random_.Uniform(-hx + radius, hx - radius), local_y);
       const bool apart = std::all_of(taken.begin(), taken.end(), [&](const auto& other) {
         return (other.first - local).norm() > other.second + radius;
       });
@@ -491,7 +492,8 @@ class OfficeDrawer {
   void DrawFreeChairs() {
     const int count = random_.UniformInt(0, 2);
     for (int tries = 0, placed = 0; tries < 40 && placed < count; ++tries) {
-      const Vector2d xy(random_.Uniform(0.6, room().x() - 0.6), random_.Uniform(0.6, room().y() - 0.6));
+      const double y = random_.Uniform(0.6, room().y() - 0.6);
+      const Vector2d xy(random_.Uniform(0.6, room().x() - 0.6), y);
       const double yaw = random_.Uniform(-180.0, 180.0);
       const Vector2d ahead = xy + Direction(Radians(yaw)) * 0.9;
       const FloorPlan floor(plan_.layout);
@@ -512,7 +514,8 @@ class OfficeDrawer {
       if (!stretch || stretch->Overlaps(door_, 0.5) || stretch->Overlaps(plan_.bare, 0.3)) continue;
       const Vector2d xy = WallPoint(room(), stretch->wall, stretch->from + 0.15) + InwardNormal(stretch->wall) * 0.25;
       if (plan_.layout.IsBlocked(xy, 0.4) || !Fits(Rect::Around(xy, Vector2d::Constant(0.15)), 0.4)) continue;
-      AddObject(random_.Bernoulli(0.5) ? ObjectKind::kBottle : ObjectKind::kBook, xy, random_.Uniform(-180.0, 180.0));
+      const double yaw_deg = random_.Uniform(-180.0, 180.0);
+      AddObject(random_.Bernoulli(0.5) ? ObjectKind::kBottle : ObjectKind::kBook, xy, yaw_deg);
       plan_.occupied.emplace_back(xy, 0.2);
       placed_.push_back(Rect::Around(xy, Vector2d::Constant(0.15)));
       return;
@@ -546,7 +549,8 @@ class OfficeDrawer {
     // About one poster for every 12 m of wall, give or take.
     const int posters = random_.UniformInt(2, 4) + static_cast<int>(2.0 * (room().x() + room().y()) / 12.0);
     for (int i = 0; i < posters; ++i) {
-      const Vector2d size(Rounded(random_.Uniform(0.5, 1.0), 2), Rounded(random_.Uniform(0.6, 1.0), 2));
+      const double height = Rounded(random_.Uniform(0.6, 1.0), 2);
+      const Vector2d size(Rounded(random_.Uniform(0.5, 1.0), 2), height);
       place(PanelKind::kPoster, size, std::min(random_.Uniform(1.45, 1.85), room().z() - 0.2 - size.y() / 2.0), i);
     }
   }
@@ -863,8 +867,8 @@ class CameraPlanner {
       for (int k = 0; k < 64 && clear; ++k) clear = CameraClear(centre + radius * Direction(2.0 * kPi * k / 64));
       if (!clear) continue;
       // At most 0.5 m/s along the circle and 45 degrees a second round it.
-      const double period =
-          std::max(2.0 * kPi * radius / random_.Uniform(0.3, 0.5), 360.0 / random_.Uniform(30.0, 45.0));
+      const double turn_rate_deg = random_.Uniform(30.0, 45.0);
+      const double period = std::max(2.0 * kPi * radius / random_.Uniform(0.3, 0.5), 360.0 / turn_rate_deg);
       const double start = random_.Uniform(-180.0, 180.0);
       const double sense = random_.Bernoulli(0.5) ? 1.0 : -1.0;
       const double height = random_.Uniform(1.25, 1.6);
@@ -1134,8 +1138,8 @@ class PeoplePlanner {
       Vector2d xy;
       if (random.Bernoulli(0.75)) {
         const Desk& desk = Pick(random, office_.layout.desks);
-        const Vector2d local(random.Uniform(-desk.size.x() / 2.0 + 0.2, desk.size.x() / 2.0 - 0.2),
-                             random.Uniform(-desk.size.y() / 2.0 + 0.15, desk.size.y() / 2.0 - 0.15));
+        const double local_y = random.Uniform(-desk.size.y() / 2.0 + 0.15, desk.size.y() / 2.0 - 0.15);
+        const Vector2d local(random.Uniform(-desk.size.x() / 2.0 + 0.2, desk.size.x() / 2.0 - 0.2), local_y);
         xy = desk.position + Eigen::Rotation2Dd(Radians(desk.yaw_deg)) * local;
         if (!FarFromThings(xy, 0.18, draft)) continue;
       } else {
@@ -1213,7 +1217,8 @@ class PeoplePlanner {
     const OfficeObject& chair = *office_.layout.FindObject(*name);
     const Vector2d ahead = Direction(Radians(chair.yaw_deg));
     const Vector2d side(-ahead.y(), ahead.x());
-    const Vector2d to = chair.position + ahead * random.Uniform(0.5, 1.2) + side * random.Uniform(-0.3, 0.3);
+    const double sideways = random.Uniform(-0.3, 0.3);
+    const Vector2d to = chair.position + ahead * random.Uniform(0.5, 1.2) + side * sideways;
     const bool free =
         office_.floor->Clear(to, 0.45, 0.0) && office_.floor->Clear(chair.position - ahead * 0.62, 0.3, 0.0);
     const bool apart =

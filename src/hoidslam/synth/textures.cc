@@ -143,7 +143,8 @@ void DrawWrapped(const cv::Mat& image, const std::function<void(cv::Point)>& dra
 void AddSpeckles(cv::Mat& image, int count, int max_radius, const cv::Scalar& lo, const cv::Scalar& hi,
                  Random& rng) {
   for (int i = 0; i < count; ++i) {
-    const cv::Point centre(rng.UniformInt(0, image.cols - 1), rng.UniformInt(0, image.rows - 1));
+    const int centre_y = rng.UniformInt(0, image.rows - 1);  // drawn first: see Random in synth/random.h
+    const cv::Point centre(rng.UniformInt(0, image.cols - 1), centre_y);
     const int radius = rng.UniformInt(1, max_radius);
     const double t = rng.Uniform();
     const cv::Scalar color = lo + (hi - lo) * t;
@@ -251,7 +252,8 @@ cv::Mat MonitorScreen(int s, Random& rng) {
   for (int w = 0; w < 3; ++w) {  // windows with title bars and text
     const int width = rng.UniformInt(s / 3, s / 2);
     const int height = rng.UniformInt(s / 4, s / 2);
-    const cv::Rect window(rng.UniformInt(s / 6, s - width - 2), rng.UniformInt(2, s - height - s / 12), width, height);
+    const int window_y = rng.UniformInt(2, s - height - s / 12);
+    const cv::Rect window(rng.UniformInt(s / 6, s - width - 2), window_y, width, height);
     cv::rectangle(image, window, {245, 245, 245}, cv::FILLED);
     cv::rectangle(image, cv::Rect(window.x, window.y, window.width, s / 24), RandomColor(rng, 40, 200), cv::FILLED);
     AddTextLines(image, cv::Rect(window.x + 4, window.y + s / 16, window.width - 8, window.height - s / 12),
@@ -367,8 +369,10 @@ cv::Mat Skin(int s, Random& rng) {
 cv::Mat Hair(int s, Random& rng) {
   cv::Mat image(s, s, CV_8UC3, cv::Scalar(25, 30, 40));
   for (int i = 0; i < s * 2; ++i) {
-    const cv::Point start(rng.UniformInt(0, s - 1), rng.UniformInt(0, s - 1));
-    const cv::Point end = start + cv::Point(rng.UniformInt(-s / 16, s / 16), rng.UniformInt(s / 16, s / 6));
+    const int start_y = rng.UniformInt(0, s - 1);
+    const cv::Point start(rng.UniformInt(0, s - 1), start_y);
+    const int end_dy = rng.UniformInt(s / 16, s / 6);
+    const cv::Point end = start + cv::Point(rng.UniformInt(-s / 16, s / 16), end_dy);
     const cv::Scalar color = cv::Scalar(40, 50, 70) * rng.Uniform(0.5, 1.8);
     DrawWrapped(image, [&](cv::Point offset) { cv::line(image, start + offset, end + offset, color, 1); });
   }
@@ -436,7 +440,8 @@ cv::Mat Poster(int s, Random& rng) {
   cv::Mat image = Blend(FractalNoise(s, 2, 3, rng), RandomColor(rng, 100, 255), RandomColor(rng, 0, 255));
   for (int i = 0; i < 8; ++i) {
     const cv::Scalar color = RandomColor(rng, 0, 255);
-    const cv::Point centre(rng.UniformInt(0, s - 1), rng.UniformInt(0, s - 1));
+    const int centre_y = rng.UniformInt(0, s - 1);
+    const cv::Point centre(rng.UniformInt(0, s - 1), centre_y);
     const int r = rng.UniformInt(s / 20, s / 6);
     switch (rng.UniformInt(0, 2)) {
       case 0:
