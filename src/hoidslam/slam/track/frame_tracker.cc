@@ -35,6 +35,14 @@ PoseHypothesis NoEstimate(TrackingMethod method, TrackingFailure failure) {
   return hypothesis;
 }
 
+// `frame` at the pose the motion model predicts from the last tracked frame, with no match yet.
+Frame PredictedFrame(const Frame& frame, const TrackingContext& context) {
+  Frame estimate = frame;
+  estimate.T_cw = context.motion->Predict(context.last->T_cw, frame.timestamp - context.last->timestamp);
+  ClearMatches(estimate);
+  return estimate;
+}
+
 }  // namespace
 
 void ClearMatches(Frame& frame) {
@@ -69,9 +77,7 @@ FrameTracker::FrameTracker(const FrameTrackerOptions& options, const PoseAccepta
 PoseHypothesis FrameTracker::WithMotionModel(const Frame& frame, const TrackingContext& context) const {
   const Frame& last = *context.last;
   const double elapsed = frame.timestamp - last.timestamp;
-  Frame estimate = frame;
-  ClearMatches(estimate);
-  estimate.T_cw = context.motion->Predict(last.T_cw, elapsed);
+  Frame estimate = PredictedFrame(frame, context);
   // After frames were lost the prediction is rougher: the window grows with them, as far as the motion is scaled.
   const double radius = options_.motion_search_radius * std::max(1.0, context.motion->IntervalsAhead(elapsed));
   int matches = SearchByProjection(estimate, last, radius);
@@ -104,9 +110,7 @@ PoseHypothesis FrameTracker::FromReferenceKeyFrame(const Frame& frame, const Tra
 PoseHypothesis FrameTracker::FromPrediction(const Frame& frame, const TrackingContext& context) const {
   const Frame& last = *context.last;
   const double elapsed = frame.timestamp - last.timestamp;
-  Frame estimate = frame;
-  ClearMatches(estimate);
-  estimate.T_cw = context.motion->Predict(last.T_cw, elapsed);
+  Frame estimate = PredictedFrame(frame, context);
   // Without a measured motion the camera may have gone anywhere near: the widest window.
   const double intervals =
       context.motion->measured() ? context.motion->IntervalsAhead(elapsed) : context.motion->max_extrapolation();
