@@ -12,6 +12,7 @@
 
 #include "hoidslam/core/enum_names.h"
 #include "hoidslam/core/error.h"
+#include "hoidslam/synth/random.h"
 
 namespace hoidslam::synth {
 namespace {
@@ -231,6 +232,56 @@ Box PanelOnWall(const OfficeLayout& layout, const WallPanel& panel, const Textur
   }
   return PanelBox(layout, wall, along, panel.z, panel.size.x(), panel.size.y(),
                   textures.Index(TextureRole::kPoster, panel.variant));
+}
+
+// Cuts [0, length) into pieces `min` to `max` long (the last one between `min` and `max` + `min`).
+std::vector<double> Cuts(double length, double min, double max, Random& random) {
+  std::vector<double> cuts = {0.0};
+  while (length - cuts.back() >= max + min) {
+    const double piece = random.Uniform(min, max);
+    cuts.push_back(cuts.back() + piece);
+  }
+  cuts.push_back(length);
+  return cuts;
+}
+
+// The four walls as a patchwork (OfficeLayout::patchwork_walls_seed): boxes `thickness` deep behind the wall
+// planes, each textured once across its larger side.
+std::vector<Box> PatchworkWalls(const Vector3d& room, double thickness, std::uint64_t seed,
+                                const TextureSet& textures) {
+  Random random(seed);
+  const int photos = textures.VariantCount(TextureRole::kPoster);
+  std::vector<Box> pieces;
+  for (const Wall wall : {Wall::kFront, Wall::kRight, Wall::kBack, Wall::kLeft}) {
+    const Vector2d normal = InwardNormal(wall);
+    const double yaw = std::atan2(normal.y(), normal.x());
+    const std::vector<double> columns = Cuts(WallLength(room, wall), 0.8, 1.6, random);
+    std::vector<int> previous_column;  // the variants of the column to the left, bottom up
+    for (std::size_t c = 0; c + 1 < columns.size(); ++c) {
+      const std::vector<double> rows = Cuts(room.z(), 0.7, 1.4, random);
+      const double from = columns[c];
+      const double width = columns[c + 1] - from;
+      std::vector<int> column;
+      for (std::size_t r = 0; r + 1 < rows.size(); ++r) {
+        const int left = r < previous_column.size() ? previous_column[r] : -1;
+        const int below = column.empty() ? -1 : column.back();
+        int variant = random.UniformInt(0, photos - 1);
+        // Never the texture of a neighbour (with fewer than three textures that cannot always be kept).
+        for (int step = 0; step < photos && (variant == left || variant == below); ++step) {
+          variant = (variant + 1) % photos;
+        }
+        const double height = rows[r + 1] - rows[r];
+        const Vector2d centre = WallPoint(room, wall, from + width / 2) - normal * (thickness / 2);
+        const auto shade = static_cast<float>(random.Uniform(0.85, 1.05));
+        pieces.push_back(MakeBox(PoseAt({centre.x(), centre.y(), rows[r] + height / 2}, yaw),
+                                 {thickness / 2, width / 2, height / 2}, textures.Index(TextureRole::kPoster, variant),
+                                 std::max(width, height), {shade, shade, shade}));
+        column.push_back(variant);
+      }
+      previous_column = std::move(column);
+    }
+  }
+  return pieces;
 }
 
 OfficeObject Obj(std::string name, ObjectKind kind, Vector2d xy, double yaw_deg, int variant = 0,
@@ -604,12 +655,16 @@ std::vector<SceneInstance> BuildStructure(const OfficeLayout& layout, const Text
                textures.Index(TextureRole::kCarpet), 1.0)});
   add({MakeBox(PoseAt({mid.x(), mid.y(), room.z() + t / 2}), {mid.x() + t, mid.y() + t, t / 2},
                textures.Index(TextureRole::kCeiling), 1.2)});
-  const int wall = textures.Index(TextureRole::kWall);
-  add({MakeBox(PoseAt({mid.x(), -t / 2, mid.z()}), {mid.x() + t, t / 2, mid.z()}, wall, 1.2),
-       MakeBox(PoseAt({mid.x(), room.y() + t / 2, mid.z()}), {mid.x() + t, t / 2, mid.z()}, wall, 1.2),
-       MakeBox(PoseAt({-t / 2, mid.y(), mid.z()}), {t / 2, mid.y(), mid.z()}, wall, 1.2, {0.9F, 0.95F, 1.0F}),
-       MakeBox(PoseAt({room.x() + t / 2, mid.y(), mid.z()}), {t / 2, mid.y(), mid.z()}, wall, 1.2,
-               {0.9F, 0.95F, 1.0F})});
+  if (layout.patchwork_walls_seed) {
+    add(PatchworkWalls(room, t, *layout.patchwork_walls_seed, textures));
+  } else {
+    const int wall = textures.Index(TextureRole::kWall);
+    add({MakeBox(PoseAt({mid.x(), -t / 2, mid.z()}), {mid.x() + t, t / 2, mid.z()}, wall, 1.2),
+         MakeBox(PoseAt({mid.x(), room.y() + t / 2, mid.z()}), {mid.x() + t, t / 2, mid.z()}, wall, 1.2),
+         MakeBox(PoseAt({-t / 2, mid.y(), mid.z()}), {t / 2, mid.y(), mid.z()}, wall, 1.2, {0.9F, 0.95F, 1.0F}),
+         MakeBox(PoseAt({room.x() + t / 2, mid.y(), mid.z()}), {t / 2, mid.y(), mid.z()}, wall, 1.2,
+                 {0.9F, 0.95F, 1.0F})});
+  }
   std::vector<Box> panels;
   if (layout.walls) {
     for (const WallPanel& panel : *layout.walls) panels.push_back(PanelOnWall(layout, panel, textures));

@@ -7,6 +7,7 @@
 // direction (cos yaw, sin yaw).
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -94,6 +95,12 @@ struct OfficeLayout {
   // What is on the walls. Nullopt: the default office's posters, whiteboard and door (placed for its 8 x 6 m room)
   // and the low cabinet along the left wall; else exactly these panels, and whatever wall they leave is bare.
   std::optional<std::vector<WallPanel>> walls;
+  // The walls' own surface. Nullopt: one texture tiled every 1.2 m on all four walls (the shipped offices).
+  // Else a patchwork drawn from this seed: every wall cut into pieces 0.8-1.6 m wide and 0.7-1.4 m high, each
+  // showing one poster texture (with photos: one photo) once, never the same as its left or lower neighbour.
+  // The random offices use it: with one photo repeated every 1.2 m on every wall, places a quarter turn or a
+  // few tiles apart look exactly alike, which no real room does.
+  std::optional<std::uint64_t> patchwork_walls_seed;
 
   // Base height of a thing standing at (x, y): the top of the desk there, else the floor.
   double SupportHeightAt(const Eigen::Vector2d& xy) const;

@@ -263,6 +263,7 @@ class OfficeDrawer {
     DrawFreeChairs();
     DrawFloorThing();
     DrawPanels();
+    layout.patchwork_walls_seed = random_.Next();
     const auto free = FindFreeFloor(layout, plan_.door_spot);
     if (!free) return std::nullopt;
     plan_.free = *free;
@@ -584,6 +585,7 @@ class OfficeDrawer {
       if (o.z) object["z"] = *o.z;
       objects.push_back(std::move(object));
     }
+    office["patchwork_walls_seed"] = *layout.patchwork_walls_seed;
     json& walls = office["walls"] = json::array();
     for (const WallPanel& p : *layout.walls) {
       json panel = {{"type", ToString(p.kind)}, {"wall", ToString(p.wall)}, {"at", p.at}, {"size", Point(p.size)}};

@@ -423,7 +423,7 @@ OfficeLayout ParseOffice(const Node& node, const std::string& source) {
     if (node.String() != "default") node.Fail("must be \"default\" or an object describing the layout");
     return DefaultOfficeLayout();
   }
-  node.AllowOnly({"base", "room", "desks", "shelves", "objects", "walls"});
+  node.AllowOnly({"base", "room", "desks", "shelves", "objects", "walls", "patchwork_walls_seed"});
   OfficeLayout base;
   if (node.Has("base")) {
     const Node base_node = node.Child("base");
@@ -435,6 +435,7 @@ OfficeLayout ParseOffice(const Node& node, const std::string& source) {
   }
   OfficeLayout office = base;
   if (node.Has("room")) office.room = node.Child("room").Vector<3>();
+  if (node.Has("patchwork_walls_seed")) office.patchwork_walls_seed = node.Child("patchwork_walls_seed").Unsigned();
   if (node.Has("desks")) {
     const Node desks = node.Child("desks");
     for (std::size_t i = 0, n = desks.ArraySize(); i < n; ++i) {
