@@ -16,7 +16,6 @@
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "hoidslam/core/sanitizers.h"
 
 namespace hoidslam::features {
 namespace {
@@ -353,27 +352,43 @@ void OrbExtractor::DetectCorners(int index, const cv::Mat& excluded) {
   }
 }
 
-void OrbExtractor::SelectAndDescribe(int index, int budget) {
+void OrbExtractor::SelectAndDescribe(int index, int budget, Described Level::*out, bool reuse) {
   const auto l = static_cast<std::size_t>(index);
   Level& level = levels_[l];
-  level.keypoints.clear();
+  Described& result = level.*out;
+  result.keypoints.clear();
+  result.descriptors.create(0, kDescriptorBytes, CV_8UC1);
   if (budget == 0 || level.corners.empty()) return;
   const cv::Mat& image = level.image;
   // The quadtree spans the FAST search area, as ORB-SLAM's does.
   level.distributor.Distribute(level.corners, SearchArea(image), budget, level.selected);
   if (level.selected.empty()) return;
 
+  // Where Extract kept the same corner: its index there, else -1.
+  const auto extracted_index = [&](const Corner& c) {
+    if (!reuse) return -1;
+    const std::pair<int, int> key(c.y * image.cols + c.x, -1);
+    const auto it = std::lower_bound(level.extracted_at.begin(), level.extracted_at.end(), key);
+    return it != level.extracted_at.end() && it->first == key.first ? it->second : -1;
+  };
+  std::vector<int>& from = level.reused;
+  from.clear();
   const float size = kPatchSize * pyramid_.scale[l];
   for (int i : level.selected) {
     const Corner& c = level.corners[static_cast<std::size_t>(i)];
-    level.keypoints.emplace_back(static_cast<float>(c.x), static_cast<float>(c.y), size, Orientation(image, c.x, c.y),
-                                 c.response, index);
+    const int known = extracted_index(c);
+    const float angle = known >= 0 ? level.extracted.keypoints[static_cast<std::size_t>(known)].angle
+                                   : Orientation(image, c.x, c.y);
+    result.keypoints.emplace_back(static_cast<float>(c.x), static_cast<float>(c.y), size, angle, c.response, index);
+    from.push_back(known);
   }
 
+  result.descriptors.create(static_cast<int>(result.keypoints.size()), kDescriptorBytes, CV_8UC1);
+  const bool all_known = std::none_of(from.begin(), from.end(), [](int known) { return known < 0; });
   // Smoothed into the inside of a bordered buffer, once a frame. Isolated: level 0 may be a view into a larger
   // image, whose pixels beyond the view must not count.
   const cv::Rect inside(kBlurBorder, kBlurBorder, image.cols, image.rows);
-  if (!level.blurred_ready) {
+  if (!level.blurred_ready && !all_known) {
     level.blurred.create(image.rows + 2 * kBlurBorder, image.cols + 2 * kBlurBorder, CV_8UC1);
     cv::Mat target = level.blurred(inside);
     const cv::Matx<float, 7, 1>& kernel = SmoothingKernel();
@@ -382,13 +397,14 @@ void OrbExtractor::SelectAndDescribe(int index, int budget) {
     ReflectBorder(level.blurred, kBlurBorder);
     level.blurred_ready = true;
   }
-  const cv::Mat inner = level.blurred(inside);
-
-  level.descriptors.create(static_cast<int>(level.keypoints.size()), kDescriptorBytes, CV_8UC1);
-  for (std::size_t i = 0; i < level.keypoints.size(); ++i) {
-    const cv::KeyPoint& kp = level.keypoints[i];
-    Describe(inner, static_cast<int>(kp.pt.x), static_cast<int>(kp.pt.y), kp.angle,
-             level.descriptors.ptr<std::uint8_t>(static_cast<int>(i)));
+  for (std::size_t i = 0; i < result.keypoints.size(); ++i) {
+    auto* row = result.descriptors.ptr<std::uint8_t>(static_cast<int>(i));
+    if (from[i] >= 0) {
+      std::memcpy(row, level.extracted.descriptors.ptr<std::uint8_t>(from[i]), kDescriptorBytes);
+      continue;
+    }
+    const cv::KeyPoint& kp = result.keypoints[i];
+    Describe(level.blurred(inside), static_cast<int>(kp.pt.x), static_cast<int>(kp.pt.y), kp.angle, row);
   }
 }
 
@@ -403,11 +419,19 @@ void OrbExtractor::Extract(const cv::Mat& gray, std::vector<cv::KeyPoint>& keypo
     Level& level = levels_[static_cast<std::size_t>(l)];
     level.strong.clear();
     level.corners.clear();
+    level.extracted.keypoints.clear();
+    level.extracted_at.clear();
     if (!Usable(level.image)) return;
     DetectCorners(l, cv::Mat());
-    SelectAndDescribe(l, features_per_level_[static_cast<std::size_t>(l)]);
+    SelectAndDescribe(l, features_per_level_[static_cast<std::size_t>(l)], &Level::extracted, false);
+    for (std::size_t i = 0; i < level.extracted.keypoints.size(); ++i) {
+      const cv::Point2f& pt = level.extracted.keypoints[i].pt;
+      level.extracted_at.emplace_back(static_cast<int>(pt.y) * level.image.cols + static_cast<int>(pt.x),
+                                      static_cast<int>(i));
+    }
+    std::sort(level.extracted_at.begin(), level.extracted_at.end());
   });
-  Collect(keypoints, descriptors);
+  Collect(&Level::extracted, keypoints, descriptors);
 }
 
 void OrbExtractor::ExtractOutside(const cv::Mat& excluded, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors) {
@@ -440,45 +464,26 @@ void OrbExtractor::ExtractOutside(const cv::Mat& excluded, std::vector<cv::KeyPo
     budget[l] += more;
     spare -= more;
   }
-  ForEachLevel([&](int l) { SelectAndDescribe(l, budget[static_cast<std::size_t>(l)]); });
-  Collect(keypoints, descriptors);
+  ForEachLevel([&](int l) { SelectAndDescribe(l, budget[static_cast<std::size_t>(l)], &Level::outside, true); });
+  Collect(&Level::outside, keypoints, descriptors);
 }
 
-void OrbExtractor::Collect(std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors) const {
+void OrbExtractor::Collect(Described Level::*result, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors) const {
   std::size_t total = 0;
-  for (const Level& level : levels_) total += level.keypoints.size();
+  for (const Level& level : levels_) total += (level.*result).keypoints.size();
   keypoints.clear();
   keypoints.reserve(total);
   descriptors = cv::Mat(static_cast<int>(total), kDescriptorBytes, CV_8UC1);
   for (std::size_t l = 0; l < levels_.size(); ++l) {
-    const Level& level = levels_[l];
-    if (level.keypoints.empty()) continue;
+    const Described& described = levels_[l].*result;
+    if (described.keypoints.empty()) continue;
     const int row = static_cast<int>(keypoints.size());
-    level.descriptors.copyTo(descriptors.rowRange(row, row + level.descriptors.rows));
-    for (cv::KeyPoint kp : level.keypoints) {
+    described.descriptors.copyTo(descriptors.rowRange(row, row + described.descriptors.rows));
+    for (cv::KeyPoint kp : described.keypoints) {
       kp.pt *= pyramid_.scale[l];
       keypoints.push_back(kp);
     }
   }
-}
-
-// The build targets baseline x86-64, where __builtin_popcountll is a library call; a second copy compiled for
-// the POPCNT instruction is picked at load time on CPUs that have it (about 5× faster here). Not under
-// ThreadSanitizer: GCC's instruments the load-time picker (an ifunc resolver), which then runs before the
-// sanitizer's runtime has started and crashes every program at load.
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && !defined(HOIDSLAM_THREAD_SANITIZER)
-__attribute__((target_clones("popcnt", "default")))
-#endif
-int DescriptorDistance(const std::uint8_t* a, const std::uint8_t* b) {
-  int distance = 0;
-  for (int i = 0; i < kDescriptorBytes; i += 8) {
-    std::uint64_t wa = 0;
-    std::uint64_t wb = 0;
-    std::memcpy(&wa, a + i, 8);  // rows need not be 8-byte aligned
-    std::memcpy(&wb, b + i, 8);
-    distance += __builtin_popcountll(wa ^ wb);
-  }
-  return distance;
 }
 
 }  // namespace hoidslam::features

@@ -6,14 +6,17 @@
 // A second call, ExtractOutside, spends the same budget again on the part of the image a mask leaves: once the
 // exclusion filter knows which regions it drops (people, the things they carry), the frame's keypoints go to the
 // static world instead of being dropped with the people. It reuses the pyramid and the FAST corners of the first
-// call, so it costs the selection and the descriptors only.
+// call, and the orientation and descriptor of every corner the first call kept too, so it costs the selection and
+// the descriptors of the new corners only.
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include <opencv2/core/mat.hpp>
 #include <opencv2/core/types.hpp>
 
+#include "hoidslam/core/descriptor_distance.h"
 #include "hoidslam/core/options.h"
 #include "hoidslam/features/quadtree.h"
 
@@ -66,6 +69,12 @@ class OrbExtractor {
   const std::vector<int>& features_per_level() const { return features_per_level_; }
 
  private:
+  // The keypoints one call keeps on a level, in level pixels, and their descriptors.
+  struct Described {
+    std::vector<cv::KeyPoint> keypoints;
+    cv::Mat descriptors;
+  };
+
   // One pyramid level: its image and the buffers its work reuses from frame to frame.
   struct Level {
     cv::Mat image;                          // level 0 is the input itself
@@ -77,9 +86,11 @@ class OrbExtractor {
     std::vector<Corner> corners;            // the FAST corners kept after the per-cell thresholds
     std::vector<std::uint8_t> cell_strong;  // whether each cell has a corner at iniThFAST
     std::vector<int> selected;              // indices into corners the quadtree keeps
+    std::vector<int> reused;                // per selected corner, its index in `extracted`, or -1
     QuadtreeDistributor distributor;
-    std::vector<cv::KeyPoint> keypoints;  // the level's result, in level pixels
-    cv::Mat descriptors;
+    Described extracted;                    // Extract's result
+    Described outside;                      // ExtractOutside's result
+    std::vector<std::pair<int, int>> extracted_at;  // (y * cols + x, index into extracted), sorted, for ExtractOutside
   };
 
   core::OrbOptions options_;
@@ -94,14 +105,14 @@ class OrbExtractor {
   // Fills level.corners with the level's FAST corners as the per-cell thresholds choose them; with `excluded`
   // (level 0's mask), among the corners outside it only, and no cell lying wholly inside it is searched.
   void DetectCorners(int index, const cv::Mat& excluded);
-  // Spreads `budget` keypoints over the level's corners, orients and describes them.
-  void SelectAndDescribe(int index, int budget);
-  // The keypoints of all levels, level by level, in level-0 pixels.
-  void Collect(std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors) const;
+  // Spreads `budget` keypoints over the level's corners into `out`, orients and describes them. With `reuse`,
+  // a corner Extract kept too takes its orientation and descriptor from there (the same pixels give the same).
+  void SelectAndDescribe(int index, int budget, Described Level::*out, bool reuse);
+  // The keypoints of all levels' `result`, level by level, in level-0 pixels.
+  void Collect(Described Level::*result, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors) const;
 };
 
-// Hamming distance between two 32-byte ORB descriptors.
-int DescriptorDistance(const std::uint8_t* a, const std::uint8_t* b);
-inline int DescriptorDistance(const cv::Mat& a, const cv::Mat& b) { return DescriptorDistance(a.ptr(), b.ptr()); }
+// Hamming distance between two 32-byte ORB descriptors (core/descriptor_distance.h).
+using core::DescriptorDistance;
 
 }  // namespace hoidslam::features

@@ -638,6 +638,42 @@ TEST(OrbExtractor, ExtractOutsideIsDeterministicAndThreadIndependent) {
   ExpectIdentical(a, ExtractOutside(one, image, mask));
 }
 
+TEST(OrbExtractor, ExtractOutsideDescribesEveryKeypointAsExtractDoes) {
+  // ExtractOutside takes the orientation and descriptor of a corner the first extraction kept from there, and
+  // computes the rest: both must be what Extract itself gives at that corner. An extraction with five times the
+  // budget keeps nearly every corner, and is the reference.
+  const cv::Mat image = TexturedImage({640, 480}, 28);
+  cv::Mat mask(480, 640, CV_8UC1, cv::Scalar(0));
+  mask(cv::Rect(200, 60, 240, 420)).setTo(255);
+  OrbExtractor extractor(core::OrbOptions{});
+  Features first;
+  extractor.Extract(image, first.keypoints, first.descriptors);
+  Features outside;
+  extractor.ExtractOutside(mask, outside.keypoints, outside.descriptors);
+  core::OrbOptions many;
+  many.n_features = 5000;
+  const Features reference = Extract(image, many);
+  const auto find = [](const Features& f, const cv::KeyPoint& kp) {
+    for (std::size_t i = 0; i < f.keypoints.size(); ++i) {
+      if (f.keypoints[i].pt == kp.pt && f.keypoints[i].octave == kp.octave) return static_cast<int>(i);
+    }
+    return -1;
+  };
+  int reused = 0;
+  int computed = 0;  // and found in the reference
+  for (std::size_t i = 0; i < outside.keypoints.size(); ++i) {
+    const cv::KeyPoint& kp = outside.keypoints[i];
+    const int r = find(reference, kp);
+    if (r < 0) continue;
+    (find(first, kp) >= 0 ? reused : computed) += 1;
+    EXPECT_EQ(kp.angle, reference.keypoints[static_cast<std::size_t>(r)].angle) << kp.pt;
+    EXPECT_EQ(cv::norm(outside.descriptors.row(static_cast<int>(i)), reference.descriptors.row(r), cv::NORM_HAMMING), 0)
+        << kp.pt;
+  }
+  EXPECT_GT(reused, 300) << "most corners outside the mask were kept the first time";
+  EXPECT_GT(computed, 100) << "the budget freed by the mask goes to corners the first extraction did not keep";
+}
+
 TEST(OrbExtractor, ExtractOutsideNeedsAnExtractionAndAMaskOfTheImagesSize) {
   OrbExtractor extractor(core::OrbOptions{});
   std::vector<cv::KeyPoint> keypoints;

@@ -1,10 +1,10 @@
 #include "hoidslam/hoid/keypoint_motion.h"
 
 #include <algorithm>
-#include <bit>
-#include <cstring>
 #include <limits>
 #include <vector>
+
+#include "hoidslam/core/descriptor_distance.h"
 
 namespace hoidslam::hoid {
 namespace {
@@ -13,19 +13,6 @@ namespace {
 constexpr int kMaxMatchDistance = 64;
 constexpr float kMatchRatio = 0.8F;
 constexpr std::size_t kMinMatches = 5;
-
-int Hamming(const std::uint8_t* a, const std::uint8_t* b, int bytes) {
-  int distance = 0;
-  int i = 0;
-  for (; i + 8 <= bytes; i += 8) {
-    std::uint64_t x = 0, y = 0;
-    std::memcpy(&x, a + i, 8);
-    std::memcpy(&y, b + i, 8);
-    distance += std::popcount(x ^ y);
-  }
-  for (; i < bytes; ++i) distance += std::popcount(static_cast<unsigned>(a[i] ^ b[i]));
-  return distance;
-}
 
 float Median(std::vector<float>& values) {
   const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
@@ -51,7 +38,8 @@ std::optional<cv::Point2f> MedianKeypointMotion(std::span<const cv::Point2f> fro
                                                 std::span<const cv::KeyPoint> to_keypoints,
                                                 const cv::Mat& to_descriptors, const cv::Rect2f& window,
                                                 float max_motion) {
-  if (from_descriptors.empty() || to_descriptors.empty() || from_descriptors.cols != to_descriptors.cols ||
+  if (from_descriptors.empty() || to_descriptors.empty() || from_descriptors.cols != core::kOrbDescriptorBytes ||
+      to_descriptors.cols != core::kOrbDescriptorBytes ||
       from_descriptors.type() != CV_8U || to_descriptors.type() != CV_8U ||
       static_cast<std::size_t>(from_descriptors.rows) != from_points.size() ||
       static_cast<std::size_t>(to_descriptors.rows) != to_keypoints.size()) {
@@ -70,7 +58,7 @@ std::optional<cv::Point2f> MedianKeypointMotion(std::span<const cv::Point2f> fro
     for (const std::size_t c : candidates) {
       const cv::Point2f d = to_keypoints[c].pt - from_points[p];
       if (d.dot(d) > max_squared) continue;
-      const int distance = Hamming(a, to_descriptors.ptr<std::uint8_t>(static_cast<int>(c)), to_descriptors.cols);
+      const int distance = core::DescriptorDistance(a, to_descriptors.ptr<std::uint8_t>(static_cast<int>(c)));
       if (distance < best) {
         second = best;
         best = distance;

@@ -33,7 +33,7 @@ inline constexpr std::size_t kMaxMotionKeypoints = 150;
 // to its nearest descriptor there when that is a good ORB match (Hamming distance ≤ 64) clearly better than the
 // second nearest (ratio 0.8). Only keypoints within `max_motion` pixels of where a keypoint was are its
 // candidates, which saves most descriptor comparisons when the motion is known to be small. nullopt with fewer
-// than five matches, or when the descriptors are missing or differ in width.
+// than five matches, or when the descriptors are missing or not ORB's 32 bytes.
 std::optional<cv::Point2f> MedianKeypointMotion(std::span<const cv::Point2f> from_points,
                                                 const cv::Mat& from_descriptors,
                                                 std::span<const std::size_t> selected,

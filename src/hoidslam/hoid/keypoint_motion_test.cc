@@ -73,5 +73,11 @@ TEST(MedianKeypointMotion, UnrelatedDescriptorsGiveNoMotion) {
       MedianKeypointMotion(cloud.points, cloud.descriptors, cloud.All(), cloud.Moved({1, 1}), cv::Mat(), kEverywhere));
 }
 
+TEST(MedianKeypointMotion, DescriptorsOtherThanOrbsGiveNoMotion) {
+  const Cloud cloud;
+  const cv::Mat half = cloud.descriptors.colRange(0, 16).clone();
+  EXPECT_FALSE(MedianKeypointMotion(cloud.points, half, cloud.All(), cloud.Moved({1, 1}), half, kEverywhere));
+}
+
 }  // namespace
 }  // namespace hoidslam::hoid

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "hoidslam/core/descriptor_distance.h"
 #include "hoidslam/core/error.h"
 #include "hoidslam/core/stopwatch.h"
 #include "hoidslam/io/ply_file.h"
@@ -68,18 +69,25 @@ void ExtractOutsideDynamic(slam::System& system, const KeypointExclusion& exclus
                            std::vector<std::uint8_t>& keep) {
   const cv::Mat dynamic = exclusion.DynamicPixels(frame, boxes, features.keypoints, keep);
   const slam::ExtractedFeatures outside = system.ExtractOutside(dynamic);
+  std::vector<std::size_t> first;  // the first extraction's keypoints that stay
+  for (std::size_t i = 0; i < features.keypoints.size(); ++i) {
+    if (keep[i] == 0 || OnMask(dynamic, features.keypoints[i])) first.push_back(i);  // else the second has its like
+  }
   slam::ExtractedFeatures merged;
   std::vector<std::uint8_t> merged_keep;
-  merged.keypoints.reserve(features.keypoints.size() + outside.keypoints.size());
-  merged.descriptors.reserve(features.keypoints.size() + outside.keypoints.size());
-  for (std::size_t i = 0; i < features.keypoints.size(); ++i) {
-    if (keep[i] != 0 && !OnMask(dynamic, features.keypoints[i])) continue;  // the second extraction has its like
+  merged.keypoints.reserve(first.size() + outside.keypoints.size());
+  merged.descriptors.create(static_cast<int>(first.size() + outside.keypoints.size()), core::kOrbDescriptorBytes,
+                            CV_8UC1);
+  for (const std::size_t i : first) {
+    const auto row = static_cast<int>(merged.keypoints.size());
+    features.descriptors.row(static_cast<int>(i)).copyTo(merged.descriptors.row(row));
     merged.keypoints.push_back(features.keypoints[i]);
-    merged.descriptors.push_back(features.descriptors.row(static_cast<int>(i)));
     merged_keep.push_back(keep[i]);
   }
+  if (!outside.keypoints.empty()) {
+    outside.descriptors.copyTo(merged.descriptors.rowRange(static_cast<int>(first.size()), merged.descriptors.rows));
+  }
   merged.keypoints.insert(merged.keypoints.end(), outside.keypoints.begin(), outside.keypoints.end());
-  merged.descriptors.push_back(outside.descriptors);
   merged_keep.resize(merged.keypoints.size(), 1);
   features = std::move(merged);
   keep = std::move(merged_keep);
