@@ -195,5 +195,52 @@ TEST(Office, OwnWallPanelsReplaceTheDefaultDecorationAndStandInsideTheirWalls) {
               ::testing::ThrowsMessage<core::InputError>(HasSubstr("o.json: office.walls[3].at: a panel 0.6 m wide")));
 }
 
+TEST(Office, PatchworkWallsCoverEveryWallWithPiecesOfVariedPhotos) {
+  const TextureSet textures;
+  OfficeLayout office;
+  office.room = {7.3, 5.6, 2.9};
+  office.desks = {Desk{"desk_1", {3.0, 2.5}, 0.0}};
+  office.patchwork_walls_seed = 17;
+  const std::vector<Box> pieces = BuildStructure(office, textures, 1)[2].parts;
+  const std::set<int> posters = [&] {
+    std::set<int> all;
+    for (int v = 0; v < textures.VariantCount(TextureRole::kPoster); ++v) {
+      all.insert(textures.Index(TextureRole::kPoster, v));
+    }
+    return all;
+  }();
+  double area = 0.0;
+  std::set<int> used;
+  for (const Box& piece : pieces) {
+    // Behind the wall plane, its inside face on it: the room's own walls stay where they were.
+    const Eigen::Vector3d centre = piece.T_wb.translation();
+    const Eigen::Vector3d& room = office.room;
+    const double behind = std::min({centre.x(), centre.y(), room.x() - centre.x(), room.y() - centre.y()});
+    EXPECT_NEAR(behind, -piece.half_size.x(), 1e-9);
+    EXPECT_GE(piece.half_size.y() * 2, 0.8 - 1e-9);
+    EXPECT_LE(piece.half_size.y() * 2, 2.4 + 1e-9);
+    EXPECT_TRUE(posters.contains(piece.texture));
+    EXPECT_DOUBLE_EQ(piece.texture_scale, 2 * std::max(piece.half_size.y(), piece.half_size.z())) << "shown once";
+    area += 4 * piece.half_size.y() * piece.half_size.z();
+    used.insert(piece.texture);
+  }
+  EXPECT_NEAR(area, 2 * (office.room.x() + office.room.y()) * office.room.z(), 1e-9) << "the walls, whole";
+  EXPECT_EQ(used.size(), posters.size());
+  // Two pieces one above the other never show the same photo.
+  for (std::size_t i = 1; i < pieces.size(); ++i) {
+    const Box& a = pieces[i - 1];
+    const Box& b = pieces[i];
+    if ((a.T_wb.translation().head<2>() - b.T_wb.translation().head<2>()).norm() < 1e-9) {
+      EXPECT_NE(a.texture, b.texture) << i;
+    }
+  }
+  // The seed draws the patchwork.
+  office.patchwork_walls_seed = 18;
+  const std::vector<Box> other = BuildStructure(office, textures, 1)[2].parts;
+  EXPECT_TRUE(other.size() != pieces.size() ||
+              !std::equal(other.begin(), other.end(), pieces.begin(),
+                          [](const Box& a, const Box& b) { return a.texture == b.texture; }));
+}
+
 }  // namespace
 }  // namespace hoidslam::synth
