@@ -61,7 +61,7 @@ struct HoidPlusOptions {
   // Part 3, the geometric safety net: a map point that is an outlier of the pose optimisation this many times in
   // a row is taken to be moving and removed from the map.
   bool safety_net = true;             // HOIDplus.safetyNet
-  int moving_point_outliers = 6;      // HOIDplus.movingPointOutliers, >= 1
+  int moving_point_outliers = 3;      // HOIDplus.movingPointOutliers, >= 1
 
   // Turns on only the parts named in `parts`, "+"-separated from depth, memory and net (as in
   // `--filter hoidplus:depth+memory`). Throws InputError naming `parameter` for an unknown or empty part.

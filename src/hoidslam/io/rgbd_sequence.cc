@@ -192,6 +192,7 @@ core::RgbdFrame RgbdSequence::LoadFrame(std::size_t index) const {
   const SequenceEntry& entry = entries_.at(index);
   core::RgbdFrame frame;
   frame.timestamp = entry.rgb_timestamp;
+  frame.depth_delay = entry.depth_timestamp - entry.rgb_timestamp;
   frame.rgb_path = entry.rgb_path.string();
   frame.depth_path = entry.depth_path.string();
   frame.rgb = ReadImage(entry.rgb_path, cv::IMREAD_COLOR, "colour");

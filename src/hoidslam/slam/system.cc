@@ -1,5 +1,6 @@
 #include "hoidslam/slam/system.h"
 
+#include <algorithm>
 #include <shared_mutex>
 #include <stdexcept>
 
@@ -10,6 +11,7 @@
 #include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
 
+#include "hoidslam/core/descriptor_distance.h"
 #include "hoidslam/core/error.h"
 #include "hoidslam/core/shipped_dir.h"
 #include "hoidslam/core/stopwatch.h"
@@ -128,18 +130,20 @@ TrackResult System::Track(const core::RgbdFrame& frame, const ExtractedFeatures&
     kept = features.keypoints;
     descriptors = features.descriptors.clone();
   } else {
-    kept.reserve(n);
-    descriptors.create(0, 32, CV_8UC1);
+    const auto count = static_cast<int>(std::count_if(keep.begin(), keep.end(), [](std::uint8_t k) { return k != 0; }));
+    kept.reserve(static_cast<std::size_t>(count));
+    descriptors.create(count, core::kOrbDescriptorBytes, CV_8UC1);
     for (std::size_t i = 0; i < n; ++i) {
       if (keep[i] == 0) continue;
+      features.descriptors.row(static_cast<int>(i)).copyTo(descriptors.row(static_cast<int>(kept.size())));
       kept.push_back(features.keypoints[i]);
-      descriptors.push_back(features.descriptors.row(static_cast<int>(i)));
     }
-    if (kept.empty()) descriptors = cv::Mat(0, 32, CV_8UC1);
   }
   auto keypoints = std::make_shared<const KeypointSet>(sensor_, std::move(kept), std::move(descriptors), frame.depth,
                                                        frame.rgb);
-  TrackResult result = tracker_.Track(Frame(next_frame_id_++, frame.timestamp, std::move(keypoints)));
+  Frame tracked(next_frame_id_++, frame.timestamp, std::move(keypoints));
+  tracked.depth_delay = frame.depth_delay;
+  TrackResult result = tracker_.Track(std::move(tracked));
   if (options_.deterministic && result.keyframe) {
     local_mapper_.ProcessQueue();
     loop_closer_.ProcessQueue();

@@ -68,6 +68,7 @@ void TrackerOptions::Check() const {
   core::CheckNotNegative(after_relocalization_seconds, "Tracking.afterRelocalizationSeconds");
   core::CheckNotNegative(moving_point_outliers, "Tracking.movingPointOutliers");
   core::CheckPositive(moving_point_depth, "Tracking.movingPointDepth");
+  core::CheckPositive(moving_point_max_delay_shift, "Tracking.movingPointMaxDelayShift");
   motion.Check();
   acceptance.Check();
   search.Check();
@@ -125,7 +126,7 @@ TrackResult Tracker::Track(Frame frame) {
                      frame.timestamp - since >= options_.confirmation_seconds - 1e-6;
         }
         if ((state_ == TrackingState::kOk || confirms) && chosen.verdict.mappable) {
-          moving = CountOnMapPoints(chosen);
+          moving = CountOnMapPoints(chosen, last ? &*last : nullptr, gap);
           make_keyframe = !localization_ && NeedNewKeyFrame(*chosen.frame, chosen.inliers);
         }
         const KeyFrame* reference = chosen.frame->reference_keyframe != nullptr ? chosen.frame->reference_keyframe
@@ -406,7 +407,8 @@ PoseHypothesis Tracker::Recover(const Frame& frame, const TrackingContext& conte
   return searches_.ConfirmWithLocalMap(std::move(poses[*chosen].frame), TrackingMethod::kRelocalization, context);
 }
 
-std::vector<MapPoint*> Tracker::CountOnMapPoints(const PoseHypothesis& hypothesis) const {
+std::vector<MapPoint*> Tracker::CountOnMapPoints(const PoseHypothesis& hypothesis, const Frame* last,
+                                                 double gap) const {
   for (MapPoint* p : hypothesis.visible) p->IncreaseVisible();
   const Frame& frame = *hypothesis.frame;
   for (int i = 0; i < frame.size(); ++i) {
@@ -418,6 +420,14 @@ std::vector<MapPoint*> Tracker::CountOnMapPoints(const PoseHypothesis& hypothesi
   if (hypothesis.inliers < 2 * options_.acceptance.min_inliers || 2 * hypothesis.inliers < hypothesis.matched) {
     return moving;
   }
+  // The share of the image motion since the last frame that falls between the colour and the depth image; a
+  // depth taken apart from the colour after a loss (no motion known) accuses nothing.
+  double delay_shift_per_pixel = 0.0;
+  if (frame.depth_delay != 0.0) {
+    if (last == nullptr || !(gap > 0.0) || gap > options_.max_motion_gap) return moving;
+    delay_shift_per_pixel = std::abs(frame.depth_delay) / gap;
+  }
+  const RgbdCamera& camera = frame.keypoints->sensor().camera;
   for (int i = 0; i < frame.size(); ++i) {
     MapPoint* p = frame.map_points[static_cast<std::size_t>(i)];
     if (p == nullptr || p->bad()) continue;
@@ -429,6 +439,12 @@ std::vector<MapPoint*> Tracker::CountOnMapPoints(const PoseHypothesis& hypothesi
     if (!frame.keypoints->has_depth(i)) continue;
     const Eigen::Vector3d p_c = frame.T_cw * p->position();
     if (!(p_c.z() > 0.0)) continue;
+    if (delay_shift_per_pixel > 0.0) {
+      const Eigen::Vector3d p_last = last->T_cw * p->position();
+      if (!(p_last.z() > 0.0)) continue;
+      const double shift = (camera.Project(p_c) - camera.Project(p_last)).norm() * delay_shift_per_pixel;
+      if (shift > options_.moving_point_max_delay_shift) continue;
+    }
     const bool misfit = std::abs(frame.keypoints->depth(i) - p_c.z()) > options_.moving_point_depth * p_c.z();
     if (p->RecordOutlier(misfit) >= options_.moving_point_outliers) moving.push_back(p);
   }

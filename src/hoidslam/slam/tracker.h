@@ -76,6 +76,11 @@ struct TrackerOptions {
   // detector saw; a static point's depth rarely misfits thrice running.
   int moving_point_outliers = 0;
   double moving_point_depth = 0.1;
+  // A depth image taken apart from the colour image (core::RgbdFrame::depth_delay) sees a point where the camera
+  // had moved it to: a depth edge lands on the wrong side of a keypoint and a static point misfits. A point that
+  // moved more than this many pixels in the image over the delay (by the motion since the last frame) is neither
+  // accused nor cleared on that frame.
+  double moving_point_max_delay_shift = 1.0;
   MotionModelOptions motion;
   PoseAcceptanceOptions acceptance;
   FrameTrackerOptions search;
@@ -164,8 +169,9 @@ class Tracker {
   // A lost frame: around the motion model's prediction after a short loss, else by relocalisation.
   PoseHypothesis Recover(const Frame& frame, const TrackingContext& context, double gap) const;
   // What an accepted, confirmed hypothesis leaves on the map points: visible and found counts, and the safety net's
-  // outlier streaks; returns the points the safety net takes to be moving.
-  std::vector<MapPoint*> CountOnMapPoints(const PoseHypothesis& hypothesis) const;
+  // outlier streaks; returns the points the safety net takes to be moving. `last`: the last tracked frame, `gap`
+  // seconds before (the motion that tells how far a point moved over the depth image's delay).
+  std::vector<MapPoint*> CountOnMapPoints(const PoseHypothesis& hypothesis, const Frame* last, double gap) const;
   bool NeedNewKeyFrame(const Frame& frame, int inliers) const;
   // The provisional relocalisation is refuted: its frames are withdrawn and tracking stands where it did before.
   std::vector<std::uint64_t> Withdraw();

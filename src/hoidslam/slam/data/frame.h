@@ -30,6 +30,7 @@ struct Frame {
 
   std::uint64_t id;
   double timestamp;
+  double depth_delay = 0.0;  // seconds from the colour image to the depth image (core::RgbdFrame::depth_delay)
   std::shared_ptr<const KeypointSet> keypoints;
   std::vector<MapPoint*> map_points;  // per keypoint, nullptr: unmatched
   std::vector<std::uint8_t> outlier;  // per keypoint, from the last pose optimisation
