@@ -156,6 +156,7 @@ TEST_F(TumFolder, LoadsColourAndDepthInMetres) {
 
   const core::RgbdFrame frame = RgbdSequence::OpenTum(root_).LoadFrame(0);
   EXPECT_DOUBLE_EQ(frame.timestamp, 1.0);
+  EXPECT_NEAR(frame.depth_delay, 0.001, 1e-12) << "the depth image's stamp less the colour's";
   EXPECT_EQ(frame.rgb.type(), CV_8UC3);
   EXPECT_EQ(frame.rgb.at<cv::Vec3b>(0, 0), cv::Vec3b(10, 20, 30));
   ASSERT_EQ(frame.depth.type(), CV_32FC1);
