@@ -276,20 +276,23 @@ realtime: the detector in its own thread; deterministic: byte-identical results 
       .def(
           "track",
           [](System& system, const py::array& rgb, const py::array& depth, double timestamp,
-             const std::optional<std::vector<Detection>>& detections, const std::string& format) {
+             const std::optional<std::vector<Detection>>& detections, const std::string& format, double depth_delay) {
             const ImageView colour = ColourView(rgb, format, "rgb");
             const ImageView depth_view = DepthView(depth, "depth");
             py::gil_scoped_release release;
             return system.Track(colour, depth_view, timestamp,
-                                detections ? std::span<const Detection>(*detections) : std::span<const Detection>());
+                                detections ? std::span<const Detection>(*detections) : std::span<const Detection>(),
+                                depth_delay);
           },
           py::arg("rgb"), py::arg("depth"), py::arg("timestamp"), py::arg("detections") = py::none(),
-          py::arg("format") = "bgr",
+          py::arg("format") = "bgr", py::arg("depth_delay") = 0.0,
           R"(Tracks the next frame; returns a FrameResult.
 
 rgb: uint8 (height, width, 3) in `format` order ("bgr" as OpenCV, "rgb" as most SDKs) or (height, width) grey.
 depth: (height, width) uint16 in units of 1/depth_factor metres, or float32 metres; the camera's size.
 timestamp: seconds, increasing. detections: the frame's boxes (detector "given"), a list of Detection.
+depth_delay: seconds from the colour to the depth image when the camera takes them apart (a recorded
+Frame's depth_delay); hoidplus's safety net does not judge what the camera moved over it.
 Arrays are read in place when their rows hold packed pixels; the GIL is released while tracking.)")
       .def("finish", &System::Finish, py::call_guard<py::gil_scoped_release>(),
            "Lets local mapping finish: the trajectory and map are final. Idempotent.")
@@ -328,6 +331,7 @@ Arrays are read in place when their rows hold packed pixels; the GIL is released
 
   py::class_<Frame>(m, "Frame", "A recorded frame; rgb and depth are views into it.")
       .def_readonly("timestamp", &Frame::timestamp)
+      .def_readonly("depth_delay", &Frame::depth_delay, "seconds from the colour image to the depth image")
       .def_readonly("rgb_path", &Frame::rgb_path)
       .def_property_readonly(
           "rgb",

@@ -50,7 +50,9 @@ int main(int argc, char** argv) {
       fields >> t >> rgb_file >> t_depth >> depth_file;
       const cv::Mat rgb = cv::imread(folder + "/" + rgb_file, cv::IMREAD_COLOR);
       const cv::Mat depth = cv::imread(folder + "/" + depth_file, cv::IMREAD_UNCHANGED);
-      const hoidslam::FrameResult r = hoidslam::Track(slam, rgb, depth, t);
+      // The depth image may be taken apart from the colour one (TUM fr1: up to 20 ms): tell the safety net.
+      const hoidslam::FrameResult r =
+          hoidslam::Track(slam, rgb, depth, t, {}, hoidslam::PixelFormat::kBgr, t_depth - t);
       ++frames;
       if (r.T_wc) {
         ++tracked;

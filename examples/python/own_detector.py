@@ -55,7 +55,8 @@ def main():
     tracked = dropped = 0
     sequence = hoidslam.Sequence(args.sequence)
     for frame in sequence:
-        result = slam.track(frame.rgb, frame.depth, frame.timestamp, to_detections(*detector(frame.rgb, frame.timestamp)))
+        boxes = to_detections(*detector(frame.rgb, frame.timestamp))
+        result = slam.track(frame.rgb, frame.depth, frame.timestamp, boxes, depth_delay=frame.depth_delay)
         tracked += result.state == "ok"
         dropped += result.dropped
         for box in result.boxes:

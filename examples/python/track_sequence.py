@@ -51,7 +51,7 @@ def main():
     lost = 0
     for frame in sequence:
         boxes = (detections.find(frame.timestamp) or []) if detections else None
-        lost += slam.track(frame.rgb, frame.depth, frame.timestamp, boxes).state != "ok"
+        lost += slam.track(frame.rgb, frame.depth, frame.timestamp, boxes, depth_delay=frame.depth_delay).state != "ok"
     slam.save(args.out)
     print(f"{sequence.name}: {len(sequence)} frames, {lost} not tracked, filter {slam.filter}; wrote {args.out}/")
 

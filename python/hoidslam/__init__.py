@@ -6,7 +6,7 @@ and every keypoint's verdict come out::
     import hoidslam
     slam = hoidslam.System(filter="hoid2d", deterministic=True)
     for frame, boxes in zip(hoidslam.Sequence("walk"), my_detector_boxes):
-        result = slam.track(frame.rgb, frame.depth, frame.timestamp, boxes)
+        result = slam.track(frame.rgb, frame.depth, frame.timestamp, boxes, depth_delay=frame.depth_delay)
     slam.save("out")
 
 docs/python.md describes the module; help(hoidslam.System) each class.

@@ -78,6 +78,7 @@ def test_wrong_arrays_raise_an_error_naming_the_argument():
     assert message(lambda: slam.track(rgb, np.zeros((240, 320), np.uint16), 1.0)).startswith(
         "parameter depth: is 320x240 but the camera's images are 640x480")
     assert message(lambda: slam.track(rgb, depth, 1.0, format="yuv")).startswith("parameter format")
+    assert message(lambda: slam.track(rgb, depth, 1.0, depth_delay=float("nan"))).startswith("parameter depth_delay")
     assert message(lambda: hoidslam.System(detector="yolo")).startswith("parameter detector")
     assert message(lambda: hoidslam.System(filter="hoid2d", detector="none")).startswith("parameter detector")
     assert message(lambda: hoidslam.ate(np.zeros((5, 7)), np.zeros((5, 8)))).startswith("parameter groundtruth")
@@ -99,6 +100,7 @@ def test_sequence_filter_and_errors_on_their_own(walk):
     frame = sequence[-1]
     assert frame.rgb.shape == (480, 640, 3) and frame.depth.dtype == np.float32
     assert frame.timestamp == sequence.timestamps()[-1]
+    assert abs(frame.depth_delay) < 0.001  # a synthetic depth image is stamped with its colour image
     with pytest.raises(IndexError):
         sequence[30]
 

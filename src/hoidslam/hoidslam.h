@@ -198,10 +198,12 @@ class System {
   // Tracks the next frame: `rgb` in a colour (or grey) format, `depth` in a depth format, both of the camera's size
   // (width(), height()). With
   // DetectorKind::kGiven the filter judges `detections` (boxes in pixels of `rgb`); with kOnnx the model's boxes
-  // are used and `detections` must be empty. Throws InputError naming rgb, depth, timestamp or detections for a
-  // bad argument, and core::Error after Finish.
+  // are used and `detections` must be empty. `depth_delay`: seconds from the colour image to the depth image
+  // when the camera takes them apart (Frame::depth_delay of a recorded sequence; TUM fr1 up to 20 ms): hoidplus's
+  // safety net does not judge a point the camera moved more than a pixel over it. Throws InputError naming rgb,
+  // depth, timestamp, detections or depth_delay for a bad argument, and core::Error after Finish.
   FrameResult Track(const ImageView& rgb, const ImageView& depth, double timestamp,
-                    std::span<const Detection> detections = {});
+                    std::span<const Detection> detections = {}, double depth_delay = 0.0);
 
   // Lets local mapping finish and stops it (and the detector thread): the trajectory and map are final.
   // Idempotent; the destructor calls it.
@@ -229,6 +231,7 @@ class System {
 // A recorded frame, owning its images.
 struct Frame {
   double timestamp = 0.0;
+  double depth_delay = 0.0;       // seconds from the colour image to the depth image (from the associated stamps)
   int width = 0;
   int height = 0;
   std::vector<std::uint8_t> rgb;  // height × width × 3, BGR, rows packed

@@ -36,8 +36,9 @@ inline ImageView ToDepthView(const cv::Mat& depth, const std::string& name = "de
 
 // System::Track with OpenCV images.
 inline FrameResult Track(System& system, const cv::Mat& rgb, const cv::Mat& depth, double timestamp,
-                         std::span<const Detection> detections = {}, PixelFormat colour = PixelFormat::kBgr) {
-  return system.Track(ToImageView(rgb, colour), ToDepthView(depth), timestamp, detections);
+                         std::span<const Detection> detections = {}, PixelFormat colour = PixelFormat::kBgr,
+                         double depth_delay = 0.0) {
+  return system.Track(ToImageView(rgb, colour), ToDepthView(depth), timestamp, detections, depth_delay);
 }
 
 }  // namespace hoidslam

@@ -159,8 +159,12 @@ class System::Impl {
         given_(options.detector == DetectorKind::kGiven) {}
 
   FrameResult Track(const ImageView& rgb, const ImageView& depth, double timestamp,
-                    std::span<const Detection> detections) {
+                    std::span<const Detection> detections, double depth_delay) {
     if (!std::isfinite(timestamp)) throw InputError::ForParameter("timestamp", "must be a finite number of seconds");
+    if (!(std::abs(depth_delay) < 1.0)) {
+      throw InputError::ForParameter("depth_delay",
+                                     fmt::format("must be under a second either way, got {}", depth_delay));
+    }
     if (index_ > 0 && !(timestamp > last_timestamp_)) {
       throw InputError::ForParameter(
           "timestamp", fmt::format("frames must come in time order: {:.6f} s after {:.6f} s", timestamp,
@@ -172,6 +176,7 @@ class System::Impl {
     const core::CameraIntrinsics& camera = session_.options().system.camera;
     core::RgbdFrame frame;
     frame.timestamp = timestamp;
+    frame.depth_delay = depth_delay;
     frame.rgb = api::ColourMat(rgb, camera.width, camera.height, "rgb");
     frame.depth = api::DepthMetres(depth, camera.width, camera.height, settings_.depth_map_factor, "depth");
     std::optional<std::vector<core::Detection>> boxes;
@@ -199,8 +204,8 @@ System::System(System&&) noexcept = default;
 System& System::operator=(System&&) noexcept = default;
 
 FrameResult System::Track(const ImageView& rgb, const ImageView& depth, double timestamp,
-                          std::span<const Detection> detections) {
-  return impl_->Track(rgb, depth, timestamp, detections);
+                          std::span<const Detection> detections, double depth_delay) {
+  return impl_->Track(rgb, depth, timestamp, detections, depth_delay);
 }
 
 void System::Finish() { impl_->session().Finish(); }

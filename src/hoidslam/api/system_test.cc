@@ -133,6 +133,8 @@ TEST(System, NamesTheArgumentThatIsWrong) {
   const std::vector<Detection> bad = {{"person", 1.0F, {0, 0, 10, 10}}, {"cup", 2.0F, {0, 0, 10, 10}}};
   EXPECT_THAT(ErrorOf([&] { slam.Track(ToImageView(blank.rgb), depth, 1.0, bad); }),
               HasSubstr("parameter detections[1]: score must be in [0, 1], got 2"));
+  EXPECT_THAT(ErrorOf([&] { slam.Track(ToImageView(blank.rgb), depth, 1.0, {}, 2.5); }),
+              HasSubstr("parameter depth_delay: must be under a second either way, got 2.5"));
   slam.Track(ToImageView(blank.rgb), depth, 1.0, {});
   EXPECT_THAT(ErrorOf([&] { slam.Track(ToImageView(blank.rgb), depth, 1.0, {}); }),
               HasSubstr("parameter timestamp: frames must come in time order"));

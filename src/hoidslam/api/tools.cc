@@ -75,6 +75,7 @@ Frame Sequence::Load(std::size_t index) const {
   const core::RgbdFrame loaded = impl_->sequence.LoadFrame(index);
   Frame frame;
   frame.timestamp = loaded.timestamp;
+  frame.depth_delay = loaded.depth_delay;
   frame.width = loaded.rgb.cols;
   frame.height = loaded.rgb.rows;
   frame.rgb_path = loaded.rgb_path;
