@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <optional>
 #include <string>
 
@@ -80,7 +81,7 @@ void ExtractOutsideDynamic(slam::System& system, const KeypointExclusion& exclus
                             CV_8UC1);
   for (const std::size_t i : first) {
     const auto row = static_cast<int>(merged.keypoints.size());
-    features.descriptors.row(static_cast<int>(i)).copyTo(merged.descriptors.row(row));
+    std::memcpy(merged.descriptors.ptr(row), features.descriptors.ptr(static_cast<int>(i)), core::kOrbDescriptorBytes);
     merged.keypoints.push_back(features.keypoints[i]);
     merged_keep.push_back(keep[i]);
   }

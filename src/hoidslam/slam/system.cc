@@ -1,6 +1,7 @@
 #include "hoidslam/slam/system.h"
 
 #include <algorithm>
+#include <cstring>
 #include <shared_mutex>
 #include <stdexcept>
 
@@ -135,7 +136,8 @@ TrackResult System::Track(const core::RgbdFrame& frame, const ExtractedFeatures&
     descriptors.create(count, core::kOrbDescriptorBytes, CV_8UC1);
     for (std::size_t i = 0; i < n; ++i) {
       if (keep[i] == 0) continue;
-      features.descriptors.row(static_cast<int>(i)).copyTo(descriptors.row(static_cast<int>(kept.size())));
+      std::memcpy(descriptors.ptr(static_cast<int>(kept.size())), features.descriptors.ptr(static_cast<int>(i)),
+                  core::kOrbDescriptorBytes);
       kept.push_back(features.keypoints[i]);
     }
   }
