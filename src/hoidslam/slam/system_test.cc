@@ -622,7 +622,9 @@ TEST_F(MapReuse, ALoadedMapIsContinuedWithoutLocalization) {
     const TrackResult result = system.Track(frame, system.Extract(frame.rgb), {});
     ASSERT_EQ(result.state, k > 10 - 6 ? TrackingState::kProvisional : TrackingState::kOk) << "frame " << k;
     // Nothing enters the map from a provisional pose.
-    if (result.state == TrackingState::kProvisional) EXPECT_FALSE(result.keyframe) << "frame " << k;
+    if (result.state == TrackingState::kProvisional) {
+      EXPECT_FALSE(result.keyframe) << "frame " << k;
+    }
     // On new wall the map drifts as any map does: up to 9 mm after 150 frames.
     EXPECT_LT((result.T_cw->translation() - TrueTranslation(k)).norm(), 0.012) << "frame " << k;
   }

@@ -5,6 +5,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -18,12 +19,17 @@ namespace {
 
 // One row of the rule: the evidence of a pose and the verdict it must get.
 struct VerdictRow {
+  VerdictRow(std::string name, PoseEvidence evidence, bool accepted, PoseRejection rejection, bool doubtful = false,
+             std::optional<bool> mappable = std::nullopt)
+      : name(std::move(name)), evidence(evidence), accepted(accepted), rejection(rejection), doubtful(doubtful),
+        mappable(mappable) {}
+
   std::string name;
   PoseEvidence evidence;
   bool accepted;
   PoseRejection rejection;
-  bool doubtful = false;
-  std::optional<bool> mappable;  // default: as accepted
+  bool doubtful;
+  std::optional<bool> mappable;  // nullopt: as accepted
 };
 
 PoseEvidence Evidence(int matched, int inliers, double clustering, std::optional<double> motion_chi2 = std::nullopt,
