@@ -30,7 +30,7 @@ constexpr int kCellSize = 30;       // side of the cells the FAST thresholds are
 // hoid2d drifted to 74 mm ATE; with it, 3.3 mm.) Not more, nor in pixels of each level: between people who fill
 // the view the static world left is a few narrow strips.
 constexpr int kExcludedMargin = 8;
-constexpr int kDescriptorBytes = 32;
+constexpr int kDescriptorBytes = core::kOrbDescriptorBytes;
 constexpr int kTests = kDescriptorBytes * 8;
 // A test point of the 31×31 patch, rotated, lands up to round(15·√2) = 21 px from the keypoint: 2 px past the
 // edge for a keypoint 19 px inside. The smoothed levels carry a reflected border that covers this.
@@ -352,7 +352,7 @@ void OrbExtractor::DetectCorners(int index, const cv::Mat& excluded) {
   }
 }
 
-void OrbExtractor::SelectAndDescribe(int index, int budget, Described Level::*out, bool reuse) {
+void OrbExtractor::SelectAndDescribe(int index, int budget, Described Level::*out) {
   const auto l = static_cast<std::size_t>(index);
   Level& level = levels_[l];
   Described& result = level.*out;
@@ -365,6 +365,7 @@ void OrbExtractor::SelectAndDescribe(int index, int budget, Described Level::*ou
   if (level.selected.empty()) return;
 
   // Where Extract kept the same corner: its index there, else -1.
+  const bool reuse = out == &Level::outside;
   const auto extracted_index = [&](const Corner& c) {
     if (!reuse) return -1;
     const std::pair<int, int> key(c.y * image.cols + c.x, -1);
@@ -420,16 +421,9 @@ void OrbExtractor::Extract(const cv::Mat& gray, std::vector<cv::KeyPoint>& keypo
     level.strong.clear();
     level.corners.clear();
     level.extracted.keypoints.clear();
-    level.extracted_at.clear();
     if (!Usable(level.image)) return;
     DetectCorners(l, cv::Mat());
-    SelectAndDescribe(l, features_per_level_[static_cast<std::size_t>(l)], &Level::extracted, false);
-    for (std::size_t i = 0; i < level.extracted.keypoints.size(); ++i) {
-      const cv::Point2f& pt = level.extracted.keypoints[i].pt;
-      level.extracted_at.emplace_back(static_cast<int>(pt.y) * level.image.cols + static_cast<int>(pt.x),
-                                      static_cast<int>(i));
-    }
-    std::sort(level.extracted_at.begin(), level.extracted_at.end());
+    SelectAndDescribe(l, features_per_level_[static_cast<std::size_t>(l)], &Level::extracted);
   });
   Collect(&Level::extracted, keypoints, descriptors);
 }
@@ -446,7 +440,16 @@ void OrbExtractor::ExtractOutside(const cv::Mat& excluded, std::vector<cv::KeyPo
   const int side = 2 * kExcludedMargin + 1;
   cv::dilate(excluded, levels_[0].excluded, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(side, side)));
   ForEachLevel([&](int l) {
-    if (Usable(levels_[static_cast<std::size_t>(l)].image)) DetectCorners(l, excluded);
+    Level& level = levels_[static_cast<std::size_t>(l)];
+    // Where Extract's keypoints lie, for SelectAndDescribe to find the corners it described already.
+    level.extracted_at.clear();
+    for (std::size_t i = 0; i < level.extracted.keypoints.size(); ++i) {
+      const cv::Point2f& pt = level.extracted.keypoints[i].pt;
+      level.extracted_at.emplace_back(static_cast<int>(pt.y) * level.image.cols + static_cast<int>(pt.x),
+                                      static_cast<int>(i));
+    }
+    std::sort(level.extracted_at.begin(), level.extracted_at.end());
+    if (Usable(level.image)) DetectCorners(l, excluded);
   });
   // A level whose part outside the mask has fewer corners than its share passes the rest on, to the finest
   // levels first (the most corners, the most precise positions).
@@ -464,7 +467,7 @@ void OrbExtractor::ExtractOutside(const cv::Mat& excluded, std::vector<cv::KeyPo
     budget[l] += more;
     spare -= more;
   }
-  ForEachLevel([&](int l) { SelectAndDescribe(l, budget[static_cast<std::size_t>(l)], &Level::outside, true); });
+  ForEachLevel([&](int l) { SelectAndDescribe(l, budget[static_cast<std::size_t>(l)], &Level::outside); });
   Collect(&Level::outside, keypoints, descriptors);
 }
 

@@ -90,7 +90,7 @@ class OrbExtractor {
     QuadtreeDistributor distributor;
     Described extracted;                    // Extract's result
     Described outside;                      // ExtractOutside's result
-    std::vector<std::pair<int, int>> extracted_at;  // (y * cols + x, index into extracted), sorted, for ExtractOutside
+    std::vector<std::pair<int, int>> extracted_at;  // (y * cols + x, index into extracted), sorted: ExtractOutside's
   };
 
   core::OrbOptions options_;
@@ -105,9 +105,9 @@ class OrbExtractor {
   // Fills level.corners with the level's FAST corners as the per-cell thresholds choose them; with `excluded`
   // (level 0's mask), among the corners outside it only, and no cell lying wholly inside it is searched.
   void DetectCorners(int index, const cv::Mat& excluded);
-  // Spreads `budget` keypoints over the level's corners into `out`, orients and describes them. With `reuse`,
+  // Spreads `budget` keypoints over the level's corners into `out`, orients and describes them. Into `outside`,
   // a corner Extract kept too takes its orientation and descriptor from there (the same pixels give the same).
-  void SelectAndDescribe(int index, int budget, Described Level::*out, bool reuse);
+  void SelectAndDescribe(int index, int budget, Described Level::*out);
   // The keypoints of all levels' `result`, level by level, in level-0 pixels.
   void Collect(Described Level::*result, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors) const;
 };
