@@ -128,6 +128,12 @@ void OrbOptions::Check() const {
     throw InputError::ForParameter("ORBextractor.minThFAST",
                                    fmt::format("must be in [1, iniThFAST={}], got {}", ini_th_fast, min_th_fast));
   }
+  if (!(dim_mean >= 0.0 && dim_mean <= 255.0)) {
+    throw InputError::ForParameter("ORBextractor.dimMean", fmt::format("must be in [0, 255], got {}", dim_mean));
+  }
+  if (!(max_gain >= 1.0)) {
+    throw InputError::ForParameter("ORBextractor.maxGain", fmt::format("must be >= 1, got {}", max_gain));
+  }
 }
 
 }  // namespace hoidslam::core

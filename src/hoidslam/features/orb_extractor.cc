@@ -231,6 +231,17 @@ OrbExtractor::OrbExtractor(const core::OrbOptions& options) : options_(options) 
   levels_.resize(static_cast<std::size_t>(options_.n_levels));
 }
 
+const cv::Mat& OrbExtractor::Brightened(const cv::Mat& gray) {
+  if (options_.dim_mean <= 0.0) return gray;
+  const double mean = cv::mean(gray)[0];
+  // At most max_gain: the darker the image, the more of what is raised is the sensor's noise. One that even so
+  // would stay below half of dim_mean (a covered lens) shows nothing else, and is left as it is.
+  if (mean >= options_.dim_mean || mean * options_.max_gain < 0.5 * options_.dim_mean) return gray;
+  const double gain = std::min(options_.max_gain, options_.dim_mean / mean);
+  gray.convertTo(brightened_, CV_8U, gain);
+  return brightened_;
+}
+
 void OrbExtractor::BuildPyramid(const cv::Mat& gray) {
   levels_[0].image = gray;
   for (std::size_t l = 1; l < levels_.size(); ++l) {
@@ -415,7 +426,7 @@ void OrbExtractor::Extract(const cv::Mat& gray, std::vector<cv::KeyPoint>& keypo
     throw std::invalid_argument("OrbExtractor::Extract: expected a grayscale CV_8UC1 image, got " +
                                 cv::typeToString(gray.type()));
   }
-  BuildPyramid(gray);
+  BuildPyramid(Brightened(gray));
   ForEachLevel([this](int l) {
     Level& level = levels_[static_cast<std::size_t>(l)];
     level.strong.clear();

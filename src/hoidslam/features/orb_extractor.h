@@ -46,6 +46,7 @@ class OrbExtractor {
   // Deterministic: the same image gives the same keypoints in the same order, level by level. `descriptors`
   // always gets a new buffer, so descriptors kept from an earlier call are never overwritten.
   // The levels are spread over OpenCV's threads (cv::setNumThreads; 1 runs them in turn), with the same result.
+  // A dim `gray` is brightened first (core::OrbOptions::dim_mean, max_gain).
   // The extractor holds on to `gray` (not a copy) until the next call, for ExtractOutside.
   // Throws std::invalid_argument when `gray` is empty or not CV_8UC1.
   void Extract(const cv::Mat& gray, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors);
@@ -77,7 +78,7 @@ class OrbExtractor {
 
   // One pyramid level: its image and the buffers its work reuses from frame to frame.
   struct Level {
-    cv::Mat image;                          // level 0 is the input itself
+    cv::Mat image;                          // level 0 is the input itself, or brightened_ when it was dim
     cv::Mat blurred;                        // smoothed image inside a reflected border, for the descriptors
     bool blurred_ready = false;             // blurred holds this frame's image
     cv::Mat excluded;                       // ExtractOutside's mask, grown by the margin, at this level's size
@@ -97,7 +98,10 @@ class OrbExtractor {
   ScalePyramid pyramid_;
   std::vector<int> features_per_level_;
   std::vector<Level> levels_;
+  cv::Mat brightened_;  // a dim input scaled up (options_.dim_mean)
 
+  // `gray`, or when its mean grey is below options_.dim_mean, a copy scaled towards it (in brightened_).
+  const cv::Mat& Brightened(const cv::Mat& gray);
   void BuildPyramid(const cv::Mat& gray);
   // Runs `work(level index)` for every level, spread over OpenCV's threads: levels share nothing.
   template <typename Work>

@@ -124,6 +124,8 @@ TEST(OrbExtractor, BadOptionsThrowInputError) {
   EXPECT_THROW(OrbExtractor(with([](auto& o) { o.n_levels = 0; })), core::InputError);
   EXPECT_THROW(OrbExtractor(with([](auto& o) { o.ini_th_fast = 0; })), core::InputError);
   EXPECT_THROW(OrbExtractor(with([](auto& o) { o.min_th_fast = 21; })), core::InputError);
+  EXPECT_THROW(OrbExtractor(with([](auto& o) { o.dim_mean = -1.0; })), core::InputError);
+  EXPECT_THROW(OrbExtractor(with([](auto& o) { o.max_gain = 0.5; })), core::InputError);
   EXPECT_NO_THROW(OrbExtractor(core::OrbOptions{}));
 }
 
@@ -504,6 +506,48 @@ TEST(OrbExtractor, TumFrameGivesAboutNFeatures) {
   for (const auto& row : quadrant) {
     for (const int count : row) EXPECT_GE(count, 100);
   }
+}
+
+// A photo at half its contrast (as on the synthetic office's walls) under lights dimmed to a fifth, with the
+// sensor's noise added after, as in the office's dark moments: FAST's absolute thresholds find few corners there;
+// brightened, the lit image's keypoints come back with descriptors that match them (a gain changes no BRIEF test).
+TEST(OrbExtractor, DimImageIsBrightenedAndMatchesTheLitOne) {
+  HOIDSLAM_SHARED_PATH_OR_SKIP(path, "data/textures/home.jpg");
+  cv::Mat photo = cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
+  ASSERT_FALSE(photo.empty());
+  cv::resize(photo, photo, {640, 480}, 0.0, 0.0, cv::INTER_AREA);
+  cv::Mat lit;
+  photo.convertTo(lit, CV_8U, 0.5, 40.0);
+  cv::Mat noise(lit.size(), CV_16SC1);
+  cv::randn(noise, 0.0, 1.0);
+  cv::Mat dim;
+  cv::Mat(lit * 0.2).convertTo(dim, CV_16SC1);
+  cv::Mat(dim + noise).convertTo(dim, CV_8UC1);
+  ASSERT_LT(cv::mean(dim)[0], core::OrbOptions{}.dim_mean);
+
+  core::OrbOptions never;
+  never.dim_mean = 0.0;
+  const Features lit_features = Extract(lit);
+  const Features unaided = Extract(dim, never);
+  const Features brightened = Extract(dim);
+  EXPECT_LT(unaided.keypoints.size(), 500U);
+  EXPECT_GE(brightened.keypoints.size(), 900U);
+  const cv::Matx23d identity(1, 0, 0, 0, 1, 0);
+  const Agreement agreement = Compare(lit_features, brightened, identity, 0.0);
+  EXPECT_GE(agreement.correct, 350);
+  EXPECT_GE(agreement.correct, 2 * Compare(lit_features, unaided, identity, 0.0).correct);
+}
+
+TEST(OrbExtractor, BrightImagesAndACoveredLensAreLeftAlone) {
+  core::OrbOptions never;
+  never.dim_mean = 0.0;
+  // Mean about 128: the same features with and without the option.
+  const cv::Mat textured = TexturedImage({640, 480}, 21);
+  ExpectIdentical(Extract(textured), Extract(textured, never));
+  // A covered lens: a few grey levels of noise, which brightening would turn into corners.
+  cv::Mat covered(480, 640, CV_8UC1);
+  cv::randn(covered, 4.0, 0.7);
+  ExpectIdentical(Extract(covered), Extract(covered, never));
 }
 
 // ---- descriptor distance --------------------------------------------------------------------------------------------

@@ -275,6 +275,8 @@ Settings ReadSettings(const yaml::Value& root) {
   read("ORBextractor.nLevels", orb.n_levels);
   read("ORBextractor.iniThFAST", orb.ini_th_fast);
   read("ORBextractor.minThFAST", orb.min_th_fast);
+  read("ORBextractor.dimMean", orb.dim_mean);
+  read("ORBextractor.maxGain", orb.max_gain);
 
   core::HoidOptions& hoid = settings.hoid;
   read("HOID.mode", hoid.mode);
