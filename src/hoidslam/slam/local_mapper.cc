@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "hoidslam/core/error.h"
+#include "hoidslam/core/pointer_set.h"
 #include "hoidslam/slam/match/fusion.h"
 #include "hoidslam/slam/match/matcher.h"
 
@@ -367,10 +368,10 @@ void LocalMapper::FuseNeighbours(KeyFrame* keyframe) {
     FuseByProjection(map_, target, points, 3.0);
   }
   std::vector<MapPoint*> candidates;
-  std::unordered_set<const MapPoint*> seen;
+  core::PointerSet<MapPoint> seen(targets.size() * keyframe->map_points().size());
   for (const KeyFrame* target : targets) {
     for (MapPoint* p : target->map_points()) {
-      if (p != nullptr && !p->bad() && seen.insert(p).second) candidates.push_back(p);
+      if (p != nullptr && !p->bad() && seen.Insert(p)) candidates.push_back(p);
     }
   }
   FuseByProjection(map_, keyframe, candidates, 3.0);
@@ -402,10 +403,10 @@ void LocalMapper::RunLocalBundleAdjustment(KeyFrame* keyframe) {
       if (!neighbour->bad()) add_keyframe(neighbour, false);
     }
     const std::size_t local = keyframes.size();
-    std::unordered_set<const MapPoint*> seen;
+    core::PointerSet<MapPoint> seen(local * keyframe->map_points().size());
     for (std::size_t k = 0; k < local; ++k) {
       for (MapPoint* p : keyframes[k]->map_points()) {
-        if (p != nullptr && !p->bad() && seen.insert(p).second) points.push_back(p);
+        if (p != nullptr && !p->bad() && seen.Insert(p)) points.push_back(p);
       }
     }
     // Keyframes outside the neighbourhood that see its points hold it in place.

@@ -7,6 +7,7 @@
 #include <spdlog/spdlog.h>
 
 #include "hoidslam/core/option_checks.h"
+#include "hoidslam/core/pointer_set.h"
 #include "hoidslam/slam/match/matcher.h"
 
 namespace hoidslam::slam {
@@ -15,12 +16,15 @@ namespace {
 // The points of `keyframes` that the frame has not matched yet and that project into it at frame.T_cw, within
 // their scale range and viewing angle: each once, in the keyframes' order.
 std::vector<ProjectedPoint> PointsInView(const std::vector<KeyFrame*>& keyframes, const Frame& frame) {
-  std::unordered_set<const MapPoint*> considered(frame.map_points.begin(), frame.map_points.end());
+  std::size_t slots = frame.map_points.size();
+  for (const KeyFrame* keyframe : keyframes) slots += keyframe->map_points().size();
+  core::PointerSet<MapPoint> considered(slots);
+  for (const MapPoint* p : frame.map_points) considered.Insert(p);
   std::vector<ProjectedPoint> projected;
   const Sensor& sensor = frame.keypoints->sensor();
   for (const KeyFrame* keyframe : keyframes) {
     for (MapPoint* p : keyframe->map_points()) {
-      if (p == nullptr || p->bad() || !considered.insert(p).second) continue;
+      if (p == nullptr || p->bad() || !considered.Insert(p)) continue;
       ProjectedPoint candidate;
       if (ProjectIntoFrame(*p, frame.T_cw, sensor, 0.5, candidate)) projected.push_back(candidate);
     }
