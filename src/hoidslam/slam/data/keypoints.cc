@@ -101,12 +101,19 @@ Eigen::Vector3d KeypointSet::Unproject(int i) const {
 
 std::vector<int> KeypointSet::FeaturesInArea(double u, double v, double radius, int min_level, int max_level) const {
   std::vector<int> found;
+  FeaturesInArea(u, v, radius, min_level, max_level, found);
+  return found;
+}
+
+void KeypointSet::FeaturesInArea(double u, double v, double radius, int min_level, int max_level,
+                                 std::vector<int>& found) const {
+  found.clear();
   const Sensor& s = *sensor_;
   const int col0 = std::max(0, static_cast<int>(std::floor((u - radius - s.min_x) * s.grid_cell_inv_width)));
   const int col1 = std::min(Sensor::kGridCols - 1, static_cast<int>(std::floor((u + radius - s.min_x) * s.grid_cell_inv_width)));
   const int row0 = std::max(0, static_cast<int>(std::floor((v - radius - s.min_y) * s.grid_cell_inv_height)));
   const int row1 = std::min(Sensor::kGridRows - 1, static_cast<int>(std::floor((v + radius - s.min_y) * s.grid_cell_inv_height)));
-  if (col0 > col1 || row0 > row1) return found;
+  if (col0 > col1 || row0 > row1) return;
   for (int row = row0; row <= row1; ++row) {
     for (int col = col0; col <= col1; ++col) {
       const auto c = static_cast<std::size_t>(row * Sensor::kGridCols + col);
@@ -120,7 +127,6 @@ std::vector<int> KeypointSet::FeaturesInArea(double u, double v, double radius, 
     }
   }
   std::sort(found.begin(), found.end());
-  return found;
 }
 
 }  // namespace hoidslam::slam

@@ -52,6 +52,9 @@ class KeypointSet {
   // Indices of keypoints within `radius` pixels (square window) of undistorted (u, v) whose level is in
   // [min_level, max_level] (max_level < 0: no upper bound), in index order.
   std::vector<int> FeaturesInArea(double u, double v, double radius, int min_level = 0, int max_level = -1) const;
+  // The same into `found` (cleared first): matching asks this for every projected point, and a buffer kept by the
+  // caller saves an allocation each time.
+  void FeaturesInArea(double u, double v, double radius, int min_level, int max_level, std::vector<int>& found) const;
 
  private:
   std::shared_ptr<const Sensor> sensor_;

@@ -7,14 +7,15 @@ namespace hoidslam::slam {
 void FuseByProjection(Map& map, KeyFrame* keyframe, std::span<MapPoint* const> points, double radius) {
   const KeypointSet& keypoints = keyframe->keypoints();
   const Sensor& sensor = keypoints.sensor();
+  std::vector<int> nearby;
   for (MapPoint* point : points) {
     if (point->bad() || point->IndexIn(keyframe) >= 0) continue;
     ProjectedPoint projected;
     if (!ProjectIntoFrame(*point, keyframe->T_cw(), sensor, 0.5, projected)) continue;
     const double r = radius * sensor.pyramid.scale[static_cast<std::size_t>(projected.level)];
     int best = -1, best_distance = 256;
-    for (const int j : keypoints.FeaturesInArea(projected.uv.x(), projected.uv.y(), r, projected.level - 1,
-                                                projected.level)) {
+    keypoints.FeaturesInArea(projected.uv.x(), projected.uv.y(), r, projected.level - 1, projected.level, nearby);
+    for (const int j : nearby) {
       const KeypointMeasurement m = keypoints.Measurement(j);
       double error = (projected.uv - m.uv).squaredNorm();
       if (m.has_depth) error += (projected.ur - m.ur) * (projected.ur - m.ur);

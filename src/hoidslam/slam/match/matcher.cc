@@ -108,6 +108,7 @@ int SearchByProjection(Frame& current, const Frame& last, double radius) {
   std::vector<MapPoint*> found(static_cast<std::size_t>(cur.size()), nullptr);
   std::vector<int> found_distance(static_cast<std::size_t>(cur.size()), std::numeric_limits<int>::max());
   std::vector<float> angle_change(static_cast<std::size_t>(cur.size()), 0.0F);
+  std::vector<int> nearby;
   for (int i = 0; i < prev.size(); ++i) {
     if (!last.IsInlier(i)) continue;
     MapPoint* point = last.map_points[static_cast<std::size_t>(i)];
@@ -124,7 +125,8 @@ int SearchByProjection(Frame& current, const Frame& last, double radius) {
 
     int best_distance = std::numeric_limits<int>::max();
     int best = -1;
-    for (const int j : cur.FeaturesInArea(uv.x(), uv.y(), r, min_level, max_level)) {
+    cur.FeaturesInArea(uv.x(), uv.y(), r, min_level, max_level, nearby);
+    for (const int j : nearby) {
       if (!IsFree(current, j)) continue;
       if (cur.has_depth(j) && std::abs(ur - cur.right(j)) > r) continue;
       const int d = DescriptorDistance(*point, cur, j);
@@ -166,6 +168,7 @@ int SearchByProjection(Frame& frame, std::span<const ProjectedPoint> points, dou
   const KeypointSet& keypoints = *frame.keypoints;
   const auto& scale = keypoints.sensor().pyramid.scale;
   int matches = 0;
+  std::vector<int> nearby;
   for (const ProjectedPoint& projected : points) {
     const MapPoint& point = *projected.point;
     if (point.bad()) continue;
@@ -173,8 +176,8 @@ int SearchByProjection(Frame& frame, std::span<const ProjectedPoint> points, dou
     // Oblique views make the descriptor less predictable: search wider.
     const double r = radius * (projected.view_cos > 0.998 ? 2.5 : 4.0) * level_scale;
     int best_distance = 256, second_distance = 256, best_level = -1, second_level = -1, best = -1;
-    for (const int j : keypoints.FeaturesInArea(projected.uv.x(), projected.uv.y(), r, projected.level - 1,
-                                                projected.level)) {
+    keypoints.FeaturesInArea(projected.uv.x(), projected.uv.y(), r, projected.level - 1, projected.level, nearby);
+    for (const int j : nearby) {
       if (!IsFree(frame, j)) continue;
       if (keypoints.has_depth(j) && std::abs(projected.ur - keypoints.right(j)) > r) continue;
       const int d = DescriptorDistance(point, keypoints, j);
