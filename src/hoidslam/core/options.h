@@ -95,8 +95,7 @@ struct OrbOptions {
   int min_th_fast = 7;        // ORBextractor.minThFAST, in [1, iniThFAST]
   // A dim image (lights down, exposure at its limit) is brightened before extraction, so that the FAST thresholds,
   // which are absolute grey levels, still find its corners: an image whose mean grey is below dim_mean is scaled
-  // towards that mean, by at most max_gain (one too dark to reach half of it, a covered lens, is left as it is).
-  // A gain changes no BRIEF test, so its keypoints match the map's.
+  // towards that mean, by at most max_gain. A gain changes no BRIEF test, so its keypoints match the map's.
   double dim_mean = 48.0;  // ORBextractor.dimMean, in [0, 255] (0: never brighten)
   double max_gain = 4.0;   // ORBextractor.maxGain, >= 1
 

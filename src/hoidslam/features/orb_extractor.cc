@@ -234,9 +234,10 @@ OrbExtractor::OrbExtractor(const core::OrbOptions& options) : options_(options) 
 const cv::Mat& OrbExtractor::Brightened(const cv::Mat& gray) {
   if (options_.dim_mean <= 0.0) return gray;
   const double mean = cv::mean(gray)[0];
-  // At most max_gain: the darker the image, the more of what is raised is the sensor's noise. One that even so
-  // would stay below half of dim_mean (a covered lens) shows nothing else, and is left as it is.
-  if (mean >= options_.dim_mean || mean * options_.max_gain < 0.5 * options_.dim_mean) return gray;
+  if (mean >= options_.dim_mean || mean <= 0.0) return gray;
+  // At most max_gain: the darker the image, the more of what is raised is the sensor's noise. A covered lens is
+  // raised too (its mean, a few grey levels, is what lights dimmed to a tenth leave of a room): the corners its
+  // noise makes have descriptors that match nothing.
   const double gain = std::min(options_.max_gain, options_.dim_mean / mean);
   gray.convertTo(brightened_, CV_8U, gain);
   return brightened_;
