@@ -8,6 +8,7 @@
 
 #include "hoidslam/core/enum_names.h"
 #include "hoidslam/core/error.h"
+#include "hoidslam/core/option_checks.h"
 
 namespace hoidslam::core {
 namespace {
@@ -128,9 +129,7 @@ void OrbOptions::Check() const {
     throw InputError::ForParameter("ORBextractor.minThFAST",
                                    fmt::format("must be in [1, iniThFAST={}], got {}", ini_th_fast, min_th_fast));
   }
-  if (!(dim_mean >= 0.0 && dim_mean <= 255.0)) {
-    throw InputError::ForParameter("ORBextractor.dimMean", fmt::format("must be in [0, 255], got {}", dim_mean));
-  }
+  CheckInRange(dim_mean, 0.0, 255.0, "ORBextractor.dimMean");
   if (!(max_gain >= 1.0)) {
     throw InputError::ForParameter("ORBextractor.maxGain", fmt::format("must be >= 1, got {}", max_gain));
   }
