@@ -65,7 +65,6 @@ void TrackerOptions::Check() const {
   core::CheckNotNegative(confirmation_seconds, "Tracking.confirmationSeconds");
   core::CheckInRange(confirmation_frames, 1, 1000, "Tracking.confirmationFrames");
   core::CheckPositive(max_provisional_seconds, "Tracking.maxProvisionalSeconds");
-  core::CheckNotNegative(after_relocalization_seconds, "Tracking.afterRelocalizationSeconds");
   core::CheckNotNegative(moving_point_outliers, "Tracking.movingPointOutliers");
   core::CheckPositive(moving_point_depth, "Tracking.movingPointDepth");
   core::CheckPositive(moving_point_max_delay_shift, "Tracking.movingPointMaxDelayShift");
@@ -113,8 +112,6 @@ TrackResult Tracker::Track(Frame frame) {
       context.prior = prior ? &*prior : nullptr;
       context.reference_keyframe = standing_.reference_keyframe;
       context.provisional = state_ != TrackingState::kOk;
-      context.after_relocalization =
-          last_relocalization_ && frame.timestamp - *last_relocalization_ < options_.after_relocalization_seconds;
       chosen = state_ == TrackingState::kLost ? Recover(frame, context, gap) : TrackFollowing(frame, context);
       if (chosen.accepted()) {
         if (state_ == TrackingState::kProvisional) {
@@ -205,7 +202,6 @@ TrackResult Tracker::Track(Frame frame) {
     if (confirms) {
       spdlog::debug("frame {}: the pose found at {:.3f} is confirmed after {} frames", frame.id, provisional_->since,
                     provisional_->frames.size());
-      last_relocalization_ = provisional_->since;
       provisional_.reset();
       state_ = TrackingState::kOk;
       lost_since_.reset();
@@ -467,7 +463,6 @@ bool Tracker::NeedNewKeyFrame(const Frame& frame, int inliers) const {
     ++(frame.IsInlier(i) ? input.close_tracked : input.close_untracked);
   }
   input.since_keyframe = frame.timestamp - last_keyframe_timestamp_;
-  if (last_relocalization_) input.since_relocalization = frame.timestamp - *last_relocalization_;
   return slam::NeedNewKeyFrame(input, options_.keyframes);
 }
 

@@ -67,9 +67,6 @@ struct TrackerOptions {
   // min_inlier_ratio) yet the motion since rules out, or when it has not been confirmed this long after it was
   // found (seconds). A frame too weak to say either way (blurred, bare) is lost, and the pose stays provisional.
   double max_provisional_seconds = 1.0;
-  // For this long after a relocalisation (seconds, from the relocalised frame) tracking asks
-  // PoseAcceptanceOptions::min_inliers_after_relocalization.
-  double after_relocalization_seconds = 1.0;
   // The geometric safety net (mode hoidplus): a map point whose measured depth misfits the tracked pose (off by
   // more than moving_point_depth of the predicted depth) this many times in a row, counted on well-tracked frames
   // where it is matched, is taken to be on something moving and erased from the map. 0: off. It catches what no
@@ -204,7 +201,6 @@ class Tracker {
   std::optional<Provisional> provisional_;
   KeyFrame* last_keyframe_ = nullptr;
   double last_keyframe_timestamp_ = 0.0;
-  std::optional<double> last_relocalization_;  // stamp of the frame of the last confirmed relocalisation
   std::vector<FrameRecord> records_;
 };
 

@@ -163,7 +163,6 @@ PoseHypothesis FrameTracker::ConfirmWithLocalMap(Frame estimate, TrackingMethod 
       OptimizeFramePose(estimate, options_.pose_optimizer, false, context.prior, &hypothesis.information);
   hypothesis.evidence = MeasureEvidence(estimate, hypothesis.matched, context.prior, acceptance_);
   hypothesis.evidence.provisional = context.provisional;
-  hypothesis.evidence.after_relocalization = context.after_relocalization;
   hypothesis.verdict = JudgePose(hypothesis.evidence, acceptance_);
   spdlog::debug("frame {}: local map: {} keyframes, {} points in view, {} found; {} matched, {} inliers, "
                 "clustering {:.2f}, motion χ² {:.1f}: {}",

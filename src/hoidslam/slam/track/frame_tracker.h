@@ -39,7 +39,6 @@ struct TrackingContext {
   const PosePrior* prior = nullptr;           // the motion model's prediction as a prior, when there is one
   KeyFrame* reference_keyframe = nullptr;     // the keyframe tracking relied on last
   bool provisional = false;                   // judging a relocalisation not yet confirmed
-  bool after_relocalization = false;          // within a second of a confirmed one
 };
 
 class FrameTracker {

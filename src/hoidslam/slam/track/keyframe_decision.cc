@@ -6,8 +6,6 @@ namespace hoidslam::slam {
 
 void KeyFrameDecisionOptions::Check() const {
   core::CheckPositive(max_interval, "Tracking.keyFrameMaxInterval");
-  core::CheckNotNegative(relocalization_wait, "Tracking.keyFrameRelocalizationWait");
-  core::CheckNotNegative(young_map_keyframes, "Tracking.keyFrameYoungMap");
   core::CheckShare(reference_ratio, "Tracking.keyFrameReferenceRatio");
   core::CheckShare(reference_ratio_first, "Tracking.keyFrameReferenceRatioFirst");
   core::CheckShare(weak_ratio, "Tracking.keyFrameWeakRatio");
@@ -21,8 +19,6 @@ bool NeedNewKeyFrame(const KeyFrameDecisionInput& input, const KeyFrameDecisionO
   if (input.mapper_paused) return false;
   // Tiny epsilon: frame stamps at an exact rate land a hair short of the interval they span.
   constexpr double kEpsilon = 1e-6;
-  const bool map_has_grown = input.map_keyframes > options.young_map_keyframes;
-  if (input.since_relocalization + kEpsilon < options.relocalization_wait && map_has_grown) return false;
   const bool need_close =
       input.close_tracked < options.close_tracked && input.close_untracked > options.close_untracked;
   const double reference_ratio = input.map_keyframes < 2 ? options.reference_ratio_first : options.reference_ratio;

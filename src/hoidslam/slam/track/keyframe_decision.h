@@ -6,10 +6,6 @@ namespace hoidslam::slam {
 
 struct KeyFrameDecisionOptions {
   double max_interval = 1.0;  // seconds: a keyframe at least this often, when tracking has weakened (ORB-SLAM: 1 s)
-  // Right after a relocalisation the map is trusted again only after this long — once it has more than
-  // young_map_keyframes keyframes: a young map takes keyframes as it can.
-  double relocalization_wait = 1.0;  // seconds
-  int young_map_keyframes = 30;
   // Tracking has weakened against the reference keyframe when the frame's inliers fall below this share of the
   // points the reference keyframe tracks (reference_ratio_first while the map has a single keyframe) ...
   double reference_ratio = 0.75;
@@ -37,7 +33,6 @@ struct KeyFrameDecisionInput {
   int close_tracked = 0;        // the frame's keypoints with close depth that are inliers
   int close_untracked = 0;      // and that are not
   double since_keyframe = 0.0;  // seconds since the last keyframe
-  double since_relocalization = 1e9;  // seconds since the frame of the last confirmed relocalisation
 };
 
 bool NeedNewKeyFrame(const KeyFrameDecisionInput& input, const KeyFrameDecisionOptions& options);

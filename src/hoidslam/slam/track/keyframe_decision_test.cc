@@ -75,15 +75,6 @@ INSTANTIATE_TEST_SUITE_P(
               i.inliers = 90;
               i.mapper_paused = true;
             }), false},
-        KeyFrameRow{"RightAfterARelocalisation", With([](auto& i) {
-              i.inliers = 90;
-              i.since_relocalization = 0.5;
-            }), false},
-        KeyFrameRow{"RightAfterARelocalisationInAYoungMap", With([](auto& i) {
-              i.inliers = 90;
-              i.since_relocalization = 0.5;
-              i.map_keyframes = 10;
-            }), true},
         KeyFrameRow{"TheFirstKeyFrameAskedLess", With([](auto& i) {
               i.map_keyframes = 1;
               i.inliers = 200;

@@ -55,9 +55,7 @@ void PoseAcceptanceOptions::Check() const {
 }
 
 PoseVerdict JudgePose(const PoseEvidence& evidence, const PoseAcceptanceOptions& options) {
-  const int min_inliers = evidence.provisional || evidence.after_relocalization
-                              ? options.min_inliers_after_relocalization
-                              : options.min_inliers;
+  const int min_inliers = evidence.provisional ? options.min_inliers_after_relocalization : options.min_inliers;
   const double ratio = evidence.inlier_ratio();
   if (evidence.inliers < min_inliers) {
     // Few inliers: enough only for a frame that has little, by their support, and then only with a good share of

@@ -20,7 +20,7 @@ namespace hoidslam::slam {
 
 struct PoseAcceptanceOptions {
   int min_inliers = 30;                       // local-map inliers for a frame to count as tracked
-  int min_inliers_after_relocalization = 50;  // the same while a relocalisation is provisional and a second after
+  int min_inliers_after_relocalization = 50;  // the same while a relocalisation is provisional
   // A pose its inliers back by this share of its matches stands on its count alone; below it, the outliers are
   // looked at.
   double majority_ratio = 0.5;
@@ -81,7 +81,6 @@ struct PoseEvidence {
   // The pose is provisional (a relocalisation not yet confirmed, tracker.h): the motion model is asked even of a
   // clear majority, and the stricter count applies.
   bool provisional = false;
-  bool after_relocalization = false;  // within a second of a confirmed relocalisation: the stricter count
 
   double inlier_ratio() const { return matched > 0 ? static_cast<double>(inliers) / matched : 0.0; }
 };
