@@ -295,7 +295,8 @@ depth_delay: seconds from the colour to the depth image when the camera takes th
 Frame's depth_delay); hoidplus's safety net does not judge what the camera moved over it.
 Arrays are read in place when their rows hold packed pixels; the GIL is released while tracking.)")
       .def("finish", &System::Finish, py::call_guard<py::gil_scoped_release>(),
-           "Lets local mapping finish: the trajectory and map are final. Idempotent.")
+           "Lets local mapping finish and adjusts the map once more, as hoidslam run does: the trajectory and map are "
+           "final. Idempotent.")
       .def("trajectory", [](const System& s) { return ToArray(s.Trajectory()); },
            "N x 8 float64 rows t tx ty tz qx qy qz qw (camera to world), every tracked frame: trajectory.txt's rows.")
       .def("keyframes", [](const System& s) { return ToArray(s.KeyFrames()); }, "The keyframes, as trajectory().")

@@ -249,7 +249,8 @@ TEST(CliOutputs, ASyntheticSequenceWithoutMasksGetsCompleteOutputs) {
   // Without people masks only: exclusion quality is scored, on still people it is not.
   fs::remove_all(sequence / "people");
   const fs::path scored = scratch / "scored";
-  Succeed(scratch, {"run", sequence.string(), "--out", scored.string()});
+  Succeed(scratch, {"run", sequence.string(), "--no-final-adjustment", "--out", scored.string()});
+  EXPECT_EQ(Summary(scored).at("final_adjustment_ms"), 0.0);
   EXPECT_TRUE(Summary(scored).at("exclusion_quality").at("leaked").is_number());
   EXPECT_TRUE(Summary(scored).at("exclusion_quality").at("static_dropped_on_still_people").is_null());
   EXPECT_THAT(ReadText(scored / "report.html"), HasSubstr("leaked:"));
@@ -260,6 +261,7 @@ TEST(CliOutputs, ASyntheticSequenceWithoutMasksGetsCompleteOutputs) {
   ExpectCompleteRun(run, ran.out);
   EXPECT_FALSE(fs::exists(run / "snapshots"));  // and so not named by the closing line
   EXPECT_EQ(Summary(run).at("frames"), frames);
+  EXPECT_GT(Summary(run).at("final_adjustment_ms").get<double>(), 0.0);  // the map is adjusted at the end by default
   EXPECT_TRUE(Summary(run).at("evaluation").is_object());
   EXPECT_EQ(Summary(run).at("evaluation").at("relocalizations").at("false"), 0);  // every frame tracked in turn
   // A walk of a few seconds comes back to nothing and closes no loop: neither share is a number, let alone 100 %.

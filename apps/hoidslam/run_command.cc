@@ -198,7 +198,7 @@ void RunRun(const RunArgs& args) {
   options.system.deterministic = args.deterministic;
   options.system.vocabulary = args.vocabulary;
   options.system.loop_closing.enabled = !args.no_loop_closing;
-  options.system.final_adjustment.enabled = !args.save_map.empty() && !args.no_final_adjustment;
+  options.system.final_adjustment.enabled = !args.no_final_adjustment;
   options.system.tracking.new_map_after = args.new_map_after;
   options.system.loop_closing.merge_maps = !args.no_map_merging;
   options.system.load_map = args.load_map;
@@ -437,8 +437,8 @@ void AddRunCommand(CLI::App& app) {
   command->add_flag("--no-loop-closing", args->no_loop_closing,
                     "Do not close loops: the map keeps the drift of the path back to a place it has seen");
   command->add_flag("--no-final-adjustment", args->no_final_adjustment,
-                    "With --save-map: do not adjust the map once more before saving it, with each depth weighed by "
-                    "the sensor's noise model (Depth.noiseFactor); the outputs show the map as tracking left it");
+                    "Do not adjust the map once more at the end, with each depth weighed by the sensor's noise model "
+                    "(Depth.noiseFactor): the outputs and the saved map show it as tracking left it");
   command->add_option("--new-map-after", args->new_map_after,
                       "Seconds lost before the camera is taken to be in new ground and a new map is started (the "
                       "frames are still looked for in every map; the new map is merged once it sees a place of "

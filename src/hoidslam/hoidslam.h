@@ -205,8 +205,9 @@ class System {
   FrameResult Track(const ImageView& rgb, const ImageView& depth, double timestamp,
                     std::span<const Detection> detections = {}, double depth_delay = 0.0);
 
-  // Lets local mapping finish and stops it (and the detector thread): the trajectory and map are final.
-  // Idempotent; the destructor calls it.
+  // Lets local mapping finish and stops it (and the detector thread), then adjusts the map once more as `hoidslam
+  // run` does (docs/slam.md, "The final adjustment"): the trajectory and map are final. Idempotent; the destructor
+  // calls it.
   void Finish();
 
   // Every frame tracked in the main map (the one with the most frames: FrameResult::map), placed relative to its

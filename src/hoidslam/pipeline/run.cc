@@ -79,6 +79,7 @@ RunOptions RunOptions::FromSettings(const io::Settings& settings) {
   options.system.camera = settings.camera;
   options.system.bf = settings.bf;
   options.system.close_depth = settings.CloseDepthThreshold();
+  options.system.final_adjustment.enabled = true;  // run and the API alike (docs/slam.md, "The final adjustment")
   options.system.final_adjustment.depth_noise = settings.depth_noise;
   options.system.orb = settings.orb;
   options.exclusion.hoid = settings.hoid;

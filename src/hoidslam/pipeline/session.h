@@ -56,8 +56,8 @@ class Session {
                             const std::vector<core::Detection>* detections = nullptr, double load_ms = 0.0,
                             std::size_t dropped_before = 0);
 
-  // Stops the detector thread (the detector is the caller's again) and lets local mapping finish: the trajectory
-  // and the map are final. Idempotent.
+  // Stops the detector thread (the detector is the caller's again), lets local mapping finish and makes the final
+  // adjustment when the options ask for it: the trajectory and the map are final. Idempotent.
   void Finish();
   bool finished() const { return finished_; }
   // Writes trajectory.txt, keyframes.txt and map.ply (run.h) into `folder` (which must exist), each file complete

@@ -86,9 +86,9 @@ struct LoopClosingOptions {
 // weighed by a noise model of the sensor rather than as one pixel of virtual disparity, so that the several
 // keyframes that see a point average its depth. It runs only at the end: during the run tracking leans on the map,
 // and a map adjusted this way as it grew tracked worse on some paths (docs/slam.md, "The final adjustment"). `run`
-// turns it on for a map it saves: it helps maps of long, varied paths most and costs some short walks up to 0.9 mm.
+// turns it on: it helps maps of long, varied paths and real recordings most and costs some short walks up to 0.9 mm.
 struct FinalAdjustmentOptions {
-  bool enabled = false;  // (run: on with --save-map, unless --no-final-adjustment)
+  bool enabled = false;  // (on in pipeline::RunOptions, so in run and the API; off with --no-final-adjustment)
   core::DepthNoiseModel depth_noise;  // Depth.noiseFactor
   int huber_iterations = 10;          // with a Huber kernel, every observation
   int iterations = 10;                // then without, the first pass's outliers left out (and left in the map)
