@@ -51,6 +51,13 @@ LocalMapperOptions MapperOptions(const SystemOptions& options) {
   return mapping;
 }
 
+// Frames keep their inliers to be placed again after the final adjustment, when there is one.
+TrackerOptions TrackingOptions(const SystemOptions& options) {
+  TrackerOptions tracking = options.tracking;
+  tracking.record_inliers = options.final_adjustment.enabled && !options.localization;
+  return tracking;
+}
+
 // Local mapping hands each keyframe it has mapped to loop closing, when it closes loops or merges maps. (The closer
 // is constructed after the mapper, but no keyframe is mapped before both stand.)
 std::function<void(KeyFrame*)> MappedCallback(const SystemOptions& options, LoopCloser& loop_closer) {
@@ -78,7 +85,7 @@ System::System(const SystemOptions& options)
       vocabulary_(bow::Vocabulary::Load(options.vocabulary)),
       local_mapper_(map_, vocabulary_, MapperOptions(options), MappedCallback(options, loop_closer_)),
       loop_closer_(map_, local_mapper_, options.loop_closing),
-      tracker_(map_, vocabulary_, local_mapper_, options.tracking) {
+      tracker_(map_, vocabulary_, local_mapper_, TrackingOptions(options)) {
   sensor_ = Sensor::Make(options.camera, options.bf, options.close_depth, extractor_.pyramid());
   if (!options.load_map.empty()) {
     std::unique_lock lock(map_.mutex());
@@ -172,6 +179,7 @@ void System::Finish() {
     maps = map_.Maps();
   }
   for (const MapId map : maps) loop_closer_.AdjustFinally(map, options_.final_adjustment);
+  tracker_.PlaceFramesInAdjustedMap();
   final_adjustment_ms_ = stopwatch.ElapsedMilliseconds();
 }
 

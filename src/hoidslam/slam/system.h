@@ -96,7 +96,8 @@ class System {
   TrackResult Track(const core::RgbdFrame& frame, const ExtractedFeatures& features, std::span<const std::uint8_t> keep);
 
   // Lets local mapping and loop closing finish their queues and stops them, then adjusts every map once more
-  // (FinalAdjustmentOptions); the outputs below then show the final map.
+  // (FinalAdjustmentOptions) and places each frame that is not a keyframe again by its own inliers in the adjusted
+  // map (Tracker::PlaceFramesInAdjustedMap); the outputs below then show the final map.
   void Finish();
   // How long Finish's final adjustment took, ms (0 when there was none).
   double FinalAdjustmentMilliseconds() const { return final_adjustment_ms_; }
@@ -110,7 +111,7 @@ class System {
   std::vector<MapSummary> Maps() const;
   MapId MainMap() const;  // MainMapOf(Maps())
   // Every frame tracked in the map (by default the main one), placed relative to its reference keyframe as the map
-  // finally has it.
+  // finally has it (after a final adjustment, where its own inliers put it in the adjusted map).
   core::Trajectory FrameTrajectory() const;
   core::Trajectory FrameTrajectory(MapId map) const;
   // The main map's keyframes' poses, by id.

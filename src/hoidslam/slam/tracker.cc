@@ -221,7 +221,7 @@ TrackResult Tracker::Track(Frame frame) {
       state_ = TrackingState::kLost;
     }
     if (state_ == TrackingState::kLost && !lost_since_) lost_since_ = frame.timestamp;
-    records_.push_back({frame.timestamp, nullptr, core::Pose::Identity()});
+    records_.push_back({frame.timestamp, nullptr, core::Pose::Identity(), {}});
     if (state_ != TrackingState::kNotInitialized && result.failure == TrackingFailure::kNone) {
       result.failure =
           frame.size() < options_.acceptance.min_inliers_floor ? TrackingFailure::kTooFewKeypoints : chosen.failure;
@@ -250,9 +250,12 @@ void Tracker::Record(Frame frame, const Placement& placement, double gap, Tracki
     // moved it since the frame was tracked.
     std::shared_lock lock(map_.mutex());
     Follow(frame, placement);
-    records_.push_back({frame.timestamp, frame.reference_keyframe, frame.T_cw * frame.reference_keyframe->T_wc()});
+    records_.push_back({frame.timestamp, frame.reference_keyframe, frame.T_cw * frame.reference_keyframe->T_wc(), {}});
   }
   standing_.last_record = records_.back();
+  if (options_.record_inliers && frame.reference_keyframe->timestamp() != frame.timestamp) {
+    records_.back().inliers = RecordInliers(frame);  // (point ids never change: no lock needed)
+  }
   // The next frame searches from this one's inliers only.
   for (int i = 0; i < frame.size(); ++i) {
     if (frame.outlier[static_cast<std::size_t>(i)] != 0) frame.map_points[static_cast<std::size_t>(i)] = nullptr;
@@ -269,6 +272,24 @@ std::vector<std::uint64_t> Tracker::Withdraw() {
   standing_ = std::move(provisional.before);
   state_ = TrackingState::kLost;
   return provisional.frames;
+}
+
+void Tracker::PlaceFramesInAdjustedMap() {
+  std::shared_lock lock(map_.mutex());
+  for (FrameRecord& record : records_) {
+    if (record.reference == nullptr || record.inliers.empty()) continue;
+    KeyFrame* reference = record.reference;
+    core::Pose T_cr = record.T_cr;
+    while (reference->bad()) {
+      T_cr = T_cr * reference->T_cp();
+      reference = reference->parent();
+    }
+    const std::optional<core::Pose> T_cw =
+        PlaceByInliers(map_, record.inliers, reference->keypoints().sensor(), T_cr * reference->T_cw());
+    if (!T_cw) continue;
+    record.reference = reference;
+    record.T_cr = *T_cw * reference->T_wc();
+  }
 }
 
 void Tracker::Follow(Frame& frame, const Placement& placement) {

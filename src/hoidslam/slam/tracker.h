@@ -29,6 +29,7 @@
 #include "hoidslam/slam/data/frame.h"
 #include "hoidslam/slam/data/map.h"
 #include "hoidslam/slam/local_mapper.h"
+#include "hoidslam/slam/track/frame_placement.h"
 #include "hoidslam/slam/track/frame_tracker.h"
 #include "hoidslam/slam/track/keyframe_decision.h"
 #include "hoidslam/slam/track/motion_model.h"
@@ -78,6 +79,9 @@ struct TrackerOptions {
   // moved more than this many pixels in the image over the delay (by the motion since the last frame) is neither
   // accused nor cleared on that frame.
   double moving_point_max_delay_shift = 1.0;
+  // Each tracked frame keeps its inliers (track/frame_placement.h), to be placed again once the map is adjusted at
+  // the end (PlaceFramesInAdjustedMap). System turns it on with its final adjustment.
+  bool record_inliers = false;
   MotionModelOptions motion;
   PoseAcceptanceOptions acceptance;
   FrameTrackerOptions search;
@@ -131,8 +135,15 @@ class Tracker {
     double timestamp = 0.0;
     KeyFrame* reference = nullptr;
     core::Pose T_cr = core::Pose::Identity();
+    // The frame's inliers (TrackerOptions::record_inliers; none for a frame that became a keyframe).
+    std::vector<RecordedInlier> inliers;
   };
   const std::vector<FrameRecord>& records() const { return records_; }
+
+  // Once the map is adjusted at the end (System::Finish), each frame that is not a keyframe is placed again by its
+  // recorded inliers against the adjusted points (track/frame_placement.h), from where its reference keyframe now
+  // puts it; a frame whose inliers no longer agree on a pose stays with its keyframe. Takes the map's lock.
+  void PlaceFramesInAdjustedMap();
 
  private:
   // Where tracking stood after the last tracked frame: what a refuted relocalisation goes back to.

@@ -84,6 +84,8 @@ class Map {
   std::vector<KeyFrame*> KeyFrames() const;
   std::vector<MapPoint*> MapPoints() const;
   std::size_t NumKeyFrames() const { return num_good_keyframes_; }
+  // The point of this id, good or bad (a bad one may have been fused into another: MapPoint::Current).
+  MapPoint* Point(MapPointId id) const { return points_.at(id).get(); }
   // The same for one map.
   std::vector<KeyFrame*> KeyFrames(MapId map) const;
   std::vector<MapPoint*> MapPoints(MapId map) const;
