@@ -65,15 +65,9 @@ std::function<void(KeyFrame*)> MappedCallback(const SystemOptions& options, Loop
   return [&loop_closer](KeyFrame* keyframe) { loop_closer.Insert(keyframe); };
 }
 
-// Where a frame stands in the final map: its reference keyframe's map, and its pose. A culled reference keyframe
-// kept its pose relative to its parent: the chain is followed to a live one.
+// Where a frame stands in the final map: its reference keyframe's map, and its pose.
 std::pair<MapId, core::Pose> Place(const Tracker::FrameRecord& record) {
-  const KeyFrame* reference = record.reference;
-  core::Pose T_cr = record.T_cr;
-  while (reference->bad()) {
-    T_cr = T_cr * reference->T_cp();
-    reference = reference->parent();
-  }
+  const auto [reference, T_cr] = record.Resolved();
   return {reference->map_id(), (T_cr * reference->T_cw()).inverse()};
 }
 

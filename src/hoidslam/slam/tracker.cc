@@ -268,22 +268,30 @@ std::vector<std::uint64_t> Tracker::Withdraw() {
   provisional_.reset();
   spdlog::debug("the pose found at {:.3f} is refuted: {} frames withdrawn", provisional.since,
                 provisional.frames.size());
-  for (std::size_t r = provisional.first_record; r < records_.size(); ++r) records_[r].reference = nullptr;
+  for (std::size_t r = provisional.first_record; r < records_.size(); ++r) {
+    records_[r].reference = nullptr;
+    records_[r].inliers = {};  // a withdrawn frame is never placed
+  }
   standing_ = std::move(provisional.before);
   state_ = TrackingState::kLost;
   return provisional.frames;
+}
+
+std::pair<KeyFrame*, core::Pose> Tracker::FrameRecord::Resolved() const {
+  KeyFrame* keyframe = reference;
+  core::Pose T_ck = T_cr;
+  while (keyframe->bad()) {
+    T_ck = T_ck * keyframe->T_cp();
+    keyframe = keyframe->parent();
+  }
+  return {keyframe, T_ck};
 }
 
 void Tracker::PlaceFramesInAdjustedMap() {
   std::shared_lock lock(map_.mutex());
   for (FrameRecord& record : records_) {
     if (record.reference == nullptr || record.inliers.empty()) continue;
-    KeyFrame* reference = record.reference;
-    core::Pose T_cr = record.T_cr;
-    while (reference->bad()) {
-      T_cr = T_cr * reference->T_cp();
-      reference = reference->parent();
-    }
+    const auto [reference, T_cr] = record.Resolved();
     const std::optional<core::Pose> T_cw =
         PlaceByInliers(map_, record.inliers, reference->keypoints().sensor(), T_cr * reference->T_cw());
     if (!T_cw) continue;

@@ -23,6 +23,7 @@
 #include <cstdint>
 #include <optional>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "hoidslam/bow/vocabulary.h"
@@ -137,6 +138,10 @@ class Tracker {
     core::Pose T_cr = core::Pose::Identity();
     // The frame's inliers (TrackerOptions::record_inliers; none for a frame that became a keyframe).
     std::vector<RecordedInlier> inliers;
+
+    // Its reference keyframe now and its pose relative to it: a culled keyframe kept its pose relative to its
+    // parent, so the chain is followed to a live one. Needs a reference.
+    std::pair<KeyFrame*, core::Pose> Resolved() const;
   };
   const std::vector<FrameRecord>& records() const { return records_; }
 
