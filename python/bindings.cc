@@ -4,7 +4,9 @@
 // hoidslam.InputError (a ValueError) with the C++ API's message, which names the argument.
 #include <algorithm>
 #include <cstdint>
+#include <iomanip>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -21,6 +23,51 @@ namespace hoidslam::python {
 namespace {
 
 std::string DtypeName(const py::array& a) { return py::str(a.dtype()).cast<std::string>(); }
+
+// What a wrong argument was, for messages: its type's name, never its contents (a list of a frame's pixels prints
+// megabytes).
+std::string TypeName(const py::handle& value) {
+  if (value.is_none()) return "None";
+  return py::str(py::type::handle_of(value).attr("__name__")).cast<std::string>();
+}
+
+// The methods that take frames take every argument as an object and check it here, so that a wrong one raises an
+// InputError naming it rather than pybind11's TypeError, which prints every argument given, arrays included.
+py::array ArrayArgument(const py::handle& value, const std::string& name, const std::string& expected) {
+  if (!py::isinstance<py::array>(value)) {
+    throw InputError::ForParameter(name, "must be a numpy array, " + expected + ", got " + TypeName(value));
+  }
+  return py::reinterpret_borrow<py::array>(value);
+}
+
+template <typename T>
+T ValueArgument(const py::handle& value, const std::string& name, const std::string& expected) {
+  try {
+    return value.cast<T>();
+  } catch (const py::cast_error&) {
+    throw InputError::ForParameter(name, "must be " + expected + ", got " + TypeName(value));
+  }
+}
+
+// None or a list of Detection.
+std::vector<Detection> DetectionsArgument(const py::handle& value) {
+  std::vector<Detection> detections;
+  if (value.is_none()) return detections;
+  if (!py::isinstance<py::sequence>(value) || py::isinstance<py::str>(value)) {
+    throw InputError::ForParameter("detections", "must be a list of hoidslam.Detection or None, got " + TypeName(value));
+  }
+  for (const py::handle item : value) {
+    if (!py::isinstance<Detection>(item)) {
+      throw InputError::ForParameter("detections[" + std::to_string(detections.size()) + "]",
+                                     "must be a hoidslam.Detection, got " + TypeName(item));
+    }
+    detections.push_back(item.cast<Detection>());
+  }
+  return detections;
+}
+
+constexpr const char* kColourShape = "uint8 (height, width, 3) or (height, width)";
+constexpr const char* kDepthShape = "(height, width) uint16 or float32";
 
 // `a` (rows × columns [× channels]) as a view of `format`, after checking that its pixels are packed (the rows
 // may have any stride, as a crop of a larger image has).
@@ -63,6 +110,13 @@ ImageView DepthView(const py::array& a, const std::string& name) {
   if (num == py::dtype::of<std::uint16_t>().num()) return View(a, PixelFormat::kDepthUint16, 1, 2, name);
   if (num == py::dtype::of<float>().num()) return View(a, PixelFormat::kDepthFloat32, 1, 4, name);
   throw InputError::ForParameter(name, "dtype must be uint16 (depth units) or float32 (metres), got " + DtypeName(a));
+}
+
+// What `read` returns, called with the GIL released: reading a System waits for a frame another thread tracks.
+template <typename Read>
+auto WithoutGil(Read read) {
+  py::gil_scoped_release release;
+  return read();
 }
 
 // N × 8 rows (t, tx, ty, tz, qx, qy, qz, qw), as a TUM trajectory file and numpy.loadtxt of it hold them.
@@ -142,7 +196,8 @@ PYBIND11_MODULE(_hoidslam, m) {
   // Registered base first: pybind11 tries the newest translator first, so InputError is matched before Error.
   static py::exception<Error> error(m, "Error", PyExc_RuntimeError);
   error.doc() = "Base of hoidslam's errors.";
-  static py::exception<InputError> input_error(m, "InputError", PyExc_ValueError);
+  // Both a hoidslam.Error (every error of the module) and a ValueError (what Python calls bad input).
+  static py::exception<InputError> input_error(m, "InputError", py::make_tuple(error, py::handle(PyExc_ValueError)));
   input_error.doc() = "Bad input: the message names the argument, or the file and line.";
   py::register_exception_translator([](std::exception_ptr p) {
     try {
@@ -158,6 +213,48 @@ PYBIND11_MODULE(_hoidslam, m) {
   m.def("shipped_dir", &ShippedDir,
         "Where hoidslam's shipped files are: config/*.yaml (settings) and data/vocabulary/. "
         "<prefix>/share/hoidslam when installed, else the source tree.");
+  m.def(
+      "settings_for",
+      [](const std::filesystem::path& folder) -> std::optional<std::filesystem::path> {
+        std::filesystem::path settings = SettingsForSequence(folder);
+        if (settings.empty()) return std::nullopt;
+        return settings;
+      },
+      py::arg("folder"),
+      "The shipped settings file a TUM or Bonn folder's name calls for, as hoidslam run chooses it without "
+      "--settings (freiburg1 or fr1_ → config/TUM1.yaml, ..., bonn → Bonn.yaml); None for any other name.");
+
+  py::class_<Camera>(m, "Camera", R"(A camera given by its values, as its SDK reports them: the colour camera's
+intrinsics at the resolution it streams, with depth registered to it pixel for pixel.
+
+fx, fy, cx, cy: pixels; width, height: the image size; distortion: (k1, k2, p1, p2, k3), OpenCV's order;
+depth_scale: metres per unit of uint16 depth (0.001 for millimetres: RealSense's get_depth_scale(), OpenNI, Azure
+Kinect); baseline: metres between the depth camera's projector and sensor (points nearer than 40 baselines count as
+close).)")
+      .def(py::init([](double fx, double fy, double cx, double cy, int width, int height,
+                       const std::array<double, 5>& distortion, double depth_scale, double baseline) {
+             return Camera{fx, fy, cx, cy, distortion, width, height, depth_scale, baseline};
+           }),
+           py::kw_only(), py::arg("fx"), py::arg("fy"), py::arg("cx"), py::arg("cy"), py::arg("width"),
+           py::arg("height"), py::arg("distortion") = std::array<double, 5>{}, py::arg("depth_scale") = 0.001,
+           py::arg("baseline") = 0.075)
+      .def_readwrite("fx", &Camera::fx)
+      .def_readwrite("fy", &Camera::fy)
+      .def_readwrite("cx", &Camera::cx)
+      .def_readwrite("cy", &Camera::cy)
+      .def_readwrite("width", &Camera::width)
+      .def_readwrite("height", &Camera::height)
+      .def_readwrite("distortion", &Camera::distortion)
+      .def_readwrite("depth_scale", &Camera::depth_scale)
+      .def_readwrite("baseline", &Camera::baseline)
+      .def("__repr__", [](const Camera& c) {
+        std::ostringstream repr;
+        repr << "Camera(fx=" << c.fx << ", fy=" << c.fy << ", cx=" << c.cx << ", cy=" << c.cy << ", width=" << c.width
+             << ", height=" << c.height << ", distortion=(" << c.distortion[0];
+        for (std::size_t k = 1; k < c.distortion.size(); ++k) repr << ", " << c.distortion[k];
+        repr << "), depth_scale=" << c.depth_scale << ", baseline=" << c.baseline << ")";
+        return repr.str();
+      });
 
   py::class_<Detection>(m, "Detection", "One object a detector found: label (COCO name), box (x, y, width, height) "
                                         "in pixels, score, class_id (-1 if unknown).")
@@ -251,15 +348,20 @@ PYBIND11_MODULE(_hoidslam, m) {
   py::class_<System>(m, "System", R"(One SLAM session: frames in, in time order; poses, trajectory and map out.
 
 settings: ORB-SLAM3-style YAML with a HOID section (shipped_dir()/"config/TUM3.yaml"); None: TUM fr3 defaults.
+camera: a Camera from the SDK's values; replaces the settings' camera, depth factor and baseline.
 filter: none, person, classes, hoid2d, hoid3d, hoidplus[:parts]; "": the settings' HOID.mode, else hoidplus.
 detector: "given" (pass each frame's detections to track), "onnx" (model runs inside), "none".
-realtime: the detector in its own thread; deterministic: byte-identical results on every run.)")
-      .def(py::init([](const std::optional<std::filesystem::path>& settings, const std::string& filter,
+realtime: the detector in its own thread; deterministic: byte-identical results on every run.
+Threads may share it: track calls run one at a time (a frame not newer than the last one tracked raises an
+InputError naming timestamp), and trajectory(), keyframes() and map_points() read between two frames.)")
+      .def(py::init([](const std::optional<std::filesystem::path>& settings, const std::optional<Camera>& camera,
+                       const std::string& filter,
                        const std::string& detector, const std::optional<std::filesystem::path>& model, bool realtime,
                        bool deterministic, const std::string& keypoint_budget,
                        const std::optional<std::filesystem::path>& vocabulary) {
              Options options;
              options.settings = settings.value_or("");
+             options.camera = camera;
              options.filter = filter;
              options.detector = ParseDetectorKind(detector);
              options.model = model.value_or("");
@@ -270,19 +372,22 @@ realtime: the detector in its own thread; deterministic: byte-identical results 
              py::gil_scoped_release release;  // loading the vocabulary and the model takes a moment
              return System(options);
            }),
-           py::kw_only(), py::arg("settings") = py::none(), py::arg("filter") = "", py::arg("detector") = "given",
+           py::kw_only(), py::arg("settings") = py::none(), py::arg("camera") = py::none(), py::arg("filter") = "", py::arg("detector") = "given",
            py::arg("model") = py::none(), py::arg("realtime") = false, py::arg("deterministic") = false,
            py::arg("keypoint_budget") = "static", py::arg("vocabulary") = py::none())
       .def(
           "track",
-          [](System& system, const py::array& rgb, const py::array& depth, double timestamp,
-             const std::optional<std::vector<Detection>>& detections, const std::string& format, double depth_delay) {
-            const ImageView colour = ColourView(rgb, format, "rgb");
-            const ImageView depth_view = DepthView(depth, "depth");
+          [](System& system, const py::object& rgb, const py::object& depth, const py::object& timestamp,
+             const py::object& detections, const py::object& format, const py::object& depth_delay) {
+            const py::array rgb_array = ArrayArgument(rgb, "rgb", kColourShape);
+            const py::array depth_array = ArrayArgument(depth, "depth", kDepthShape);
+            const ImageView colour = ColourView(rgb_array, ValueArgument<std::string>(format, "format", "a str"), "rgb");
+            const ImageView depth_view = DepthView(depth_array, "depth");
+            const double t = ValueArgument<double>(timestamp, "timestamp", "a number of seconds");
+            const double delay = ValueArgument<double>(depth_delay, "depth_delay", "a number of seconds");
+            const std::vector<Detection> boxes = DetectionsArgument(detections);
             py::gil_scoped_release release;
-            return system.Track(colour, depth_view, timestamp,
-                                detections ? std::span<const Detection>(*detections) : std::span<const Detection>(),
-                                depth_delay);
+            return system.Track(colour, depth_view, t, boxes, delay);
           },
           py::arg("rgb"), py::arg("depth"), py::arg("timestamp"), py::arg("detections") = py::none(),
           py::arg("format") = "bgr", py::arg("depth_delay") = 0.0,
@@ -297,13 +402,16 @@ Arrays are read in place when their rows hold packed pixels; the GIL is released
       .def("finish", &System::Finish, py::call_guard<py::gil_scoped_release>(),
            "Lets local mapping finish and adjusts the map once more, as hoidslam run does: the trajectory and map are "
            "final. Idempotent.")
-      .def("trajectory", [](const System& s) { return ToArray(s.Trajectory()); },
-           "N x 8 float64 rows t tx ty tz qx qy qz qw (camera to world), every tracked frame: trajectory.txt's rows.")
-      .def("keyframes", [](const System& s) { return ToArray(s.KeyFrames()); }, "The keyframes, as trajectory().")
+      .def(
+          "trajectory", [](const System& s) { return ToArray(WithoutGil([&] { return s.Trajectory(); })); },
+          "N x 8 float64 rows t tx ty tz qx qy qz qw (camera to world), every tracked frame: trajectory.txt's rows.")
+      .def(
+          "keyframes", [](const System& s) { return ToArray(WithoutGil([&] { return s.KeyFrames(); })); },
+          "The keyframes, as trajectory().")
       .def(
           "map_points",
           [](const System& s) {
-            const std::vector<MapPoint> points = s.MapPoints();
+            const std::vector<MapPoint> points = WithoutGil([&] { return s.MapPoints(); });
             const auto n = static_cast<py::ssize_t>(points.size());
             py::array_t<double> positions({n, py::ssize_t{3}});
             py::array_t<std::uint8_t> colours({n, py::ssize_t{3}});
@@ -373,8 +481,24 @@ for frame in Sequence(folder): frame.timestamp, frame.rgb, frame.depth. Frames a
   py::class_<DetectionsFile>(m, "DetectionsFile", R"(A detections file (docs/detections-file.md): the boxes of any
 detector for a whole sequence, by timestamp, as `hoidslam detect` or another tool writes them.)")
       .def(py::init<const std::filesystem::path&>(), py::arg("path"))
-      .def("find", &DetectionsFile::Find, py::arg("timestamp"),
-           "The detections of the frame at timestamp (within a microsecond); None when the file has no such frame.")
+      .def(
+          "find",
+          [](const DetectionsFile& file, double timestamp) {
+            std::optional<std::vector<Detection>> found = file.Find(timestamp);
+            if (!found && file.missed() == 1) {
+              std::ostringstream warning;
+              warning << file.path().string() << ": no line for timestamp " << std::fixed << std::setprecision(6)
+                      << timestamp << " (within 1 ms): that frame gets no boxes; further misses are counted in "
+                      << "DetectionsFile.missed, not warned";
+              py::module_::import("warnings").attr("warn")(warning.str());
+            }
+            return found;
+          },
+          py::arg("timestamp"),
+          "The detections of the frame at timestamp (within 1 ms, so timestamps rounded to the millisecond match); "
+          "None when the file has no such frame: the first time with a warning, each time counted in missed.")
+      .def_property_readonly("missed", &DetectionsFile::missed, "How many calls of find found no frame.")
+      .def_property_readonly("path", &DetectionsFile::path)
       .def("__len__", &DetectionsFile::size);
 
   py::class_<Detector>(m, "Detector", "A YOLO-family ONNX model (YOLOX, YOLOv5, YOLOv8, YOLO11) run by OpenCV.")
@@ -382,8 +506,9 @@ detector for a whole sequence, by timestamp, as `hoidslam detect` or another too
            py::arg("nms") = 0.45F)
       .def(
           "detect",
-          [](Detector& d, const py::array& rgb, const std::string& format) {
-            const ImageView view = ColourView(rgb, format, "rgb");
+          [](Detector& d, const py::object& rgb, const py::object& format) {
+            const py::array array = ArrayArgument(rgb, "rgb", kColourShape);
+            const ImageView view = ColourView(array, ValueArgument<std::string>(format, "format", "a str"), "rgb");
             py::gil_scoped_release release;
             return d.Detect(view);
           },

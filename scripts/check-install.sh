@@ -34,6 +34,9 @@ cmake --build "$work/example" >/dev/null
 grep -qx "shipped files: $prefix/share/hoidslam" "$work/log.txt" || { echo "not the installed shipped files"; exit 1; }
 grep -q "^12 of 12 frames tracked" "$work/log.txt"
 [[ -s "$work/out/trajectory.txt" && -s "$work/out/map.ply" ]]
+# The same frames with the camera given by its values, as a program takes them from its camera's SDK.
+"$work/example/track_folder" "$work/walk" "$work/out-camera" --camera 535.4,539.2,320.1,247.6,640,480 \
+  --depth-scale 0.0002 | tail -n 1 | grep -q "^12 of 12 frames tracked"
 
 # The Python module from the prefix (Debian's python3 finds <prefix>/lib/python3/dist-packages by itself for
 # /usr/local; elsewhere PYTHONPATH names it), over the installed libhoidslam.so and shipped files.

@@ -31,6 +31,7 @@ using ::hoidslam::testing::ReadText;
 namespace fs = std::filesystem;
 
 using ::testing::HasSubstr;
+using ::testing::Not;
 using ::testing::StartsWith;
 
 TEST(Cli, NoCommandIsAnErrorAndHelpIsNot) {
@@ -42,6 +43,25 @@ TEST(Cli, NoCommandIsAnErrorAndHelpIsNot) {
     EXPECT_THAT(help.out, HasSubstr("Usage")) << command;
   }
   EXPECT_NE(RunHoidslam(scratch, {"eval", "--gt", "only.txt"}).exit_status, 0);  // --est is missing
+}
+
+TEST(Cli, AnUnknownCommandANegativeCountAndAMissingOptionAreNamedWithExitStatus1) {
+  const testing::TempDir scratch;
+  const RunResult bogus = RunHoidslam(scratch, {"bogus"});
+  ExpectOneErrorLine(bogus, "unknown command 'bogus'");
+  EXPECT_THAT(bogus.err, HasSubstr("run, synth"));
+  ExpectOneErrorLine(RunHoidslam(scratch, {"-v", "runn", "x"}), "unknown command 'runn'");
+  const std::string out = (scratch / "out").string();
+  ExpectOneErrorLine(RunHoidslam(scratch, {"run", "seq", "--frames", "-5", "--out", out}), "--frames");
+  ExpectOneErrorLine(RunHoidslam(scratch, {"run", "seq", "--snapshots", "-1", "--out", out}), "--snapshots");
+  ExpectOneErrorLine(RunHoidslam(scratch, {"synth", "--frames", "-2", "--out", out}), "--frames");
+  ExpectOneErrorLine(RunHoidslam(scratch, {"bench", "--runs", "-3"}), "--runs");
+  const RunResult no_out = RunHoidslam(scratch, {"run", "seq"});
+  ExpectOneErrorLine(no_out, "--out is required");
+  EXPECT_THAT(no_out.err, HasSubstr("hoidslam run --help"));
+  ExpectOneErrorLine(RunHoidslam(scratch, {"run", "seq", "--out", out, "--no-such-option"}), "--no-such-option");
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_EQ(RunHoidslam(scratch, {"--version"}).exit_status, 0);
 }
 
 TEST(Cli, EvalOfATrajectoryAgainstItselfWritesJson) {
@@ -414,6 +434,93 @@ TEST(CliRun, NamesWhatIsMissingAndWritesNothing) {
                                            out.string()}),
                      "--localization");
   EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(CliRun, ImagesOfAnotherSizeThanTheSettingsNameTheImageAndTheSettingsFile) {
+  const testing::TempDir scratch;
+  HOIDSLAM_SHARED_PATH_OR_SKIP(sequence, "data/tum/fr3_walking_xyz_pair");
+  std::string wide = ReadText(fs::path(HOIDSLAM_CONFIG_DIR) / "TUM3.yaml");
+  wide.replace(wide.find("Camera.width: 640"), 17, "Camera.width: 1280");
+  WriteText(scratch / "wide.yaml", wide);
+  const RunResult run = RunHoidslam(scratch, {"run", sequence.string(), "--settings", (scratch / "wide.yaml").string(),
+                                              "--filter", "none", "--out", (scratch / "run").string()});
+  ExpectOneErrorLine(run, "the image is 640x480, but the camera settings say 1280x480 (Camera.width, Camera.height of " +
+                              (scratch / "wide.yaml").string() + ")");
+  EXPECT_THAT(run.err, HasSubstr((sequence / "rgb").string()));
+  EXPECT_FALSE(fs::exists(scratch / "run"));
+}
+
+// A folder named as TUM names its downloads gets the settings of that camera, and the run says so; its summary.json
+// holds what it takes to run it again, and its command line, run again, gives the same files.
+TEST(CliRun, ChoosesSettingsByTheFolderNameAndRecordsHowToRunItAgain) {
+  const testing::TempDir scratch;
+  HOIDSLAM_SHARED_PATH_OR_SKIP(pair, "data/tum/fr3_walking_xyz_pair");
+  const fs::path sequence = scratch / "rgbd_dataset_freiburg1_pair";
+  fs::create_directory_symlink(pair, sequence);
+  const fs::path out = scratch / "run";
+  fs::create_directories(scratch / "run.partial-999999999");  // left by a run that was killed
+  const std::vector<std::string> args = {"run", sequence.string(), "--filter", "none", "--deterministic",
+                                         "--snapshots", "0", "--out", out.string()};
+  const RunResult run = RunHoidslam(scratch, args);
+  ASSERT_EQ(run.exit_status, 0) << run.err;
+  EXPECT_THAT(run.err, HasSubstr("TUM1.yaml (by the sequence folder's name, rgbd_dataset_freiburg1_pair"));
+  EXPECT_THAT(run.err, HasSubstr("removed " + (scratch / "run.partial-999999999").string()));
+  EXPECT_FALSE(fs::exists(scratch / "run.partial-999999999"));
+  EXPECT_THAT(ReadText(out / "report.html"), Not(HasSubstr(".partial-")));
+
+  const nlohmann::json provenance = Summary(out)["provenance"];
+  EXPECT_EQ(provenance["settings"]["chosen"], "folder_name");
+  EXPECT_EQ(fs::path(provenance["settings"]["file"].get<std::string>()).filename(), "TUM1.yaml");
+  EXPECT_DOUBLE_EQ(provenance["settings"]["values"]["Camera.fx"].get<double>(), 517.306408);
+  EXPECT_EQ(provenance["settings"]["values"]["HOID.mode"], "hoidplus");
+  EXPECT_EQ(provenance["vocabulary"]["identity"].get<std::string>().size(), 16U);
+  EXPECT_TRUE(provenance["detector_source"].is_null());
+  EXPECT_FALSE(provenance["version"].get<std::string>().empty());
+  std::vector<std::string> again = provenance["command_line"]["argv"];
+  ASSERT_EQ(std::vector<std::string>(again.begin() + 1, again.end()), args);
+  again.back() = (scratch / "again").string();
+  const RunResult rerun = RunHoidslam(scratch, std::vector<std::string>(again.begin() + 1, again.end()));
+  ASSERT_EQ(rerun.exit_status, 0) << rerun.err;
+  for (const char* file : {"trajectory.txt", "keyframes.txt", "map.ply"}) {
+    EXPECT_EQ(ReadText(scratch / "again" / file), ReadText(out / file)) << file;
+  }
+}
+
+// A camera that gives millimetres (RealSense, Azure Kinect, OpenNI): the same sequence with its depth rewritten in
+// millimetres is tracked to the same ATE given --depth-factor 1000, and without it stops before the run, saying what
+// is likely wrong and which setting fixes it.
+TEST(CliRun, MillimetreDepthIsTrackedWithItsFactorAndRefusedWithoutIt) {
+  const testing::TempDir scratch;
+  const fs::path sequence = Render(scratch, "walking_xyz", ThinnedUnderSanitizers({60, 2}));
+  const fs::path millimetres = scratch / "walking_xyz_mm";
+  fs::copy(sequence, millimetres, fs::copy_options::recursive);
+  for (const fs::directory_entry& png : fs::directory_iterator(millimetres / "depth")) {
+    const cv::Mat fifths = cv::imread(png.path().string(), cv::IMREAD_UNCHANGED);  // 5000 units a metre
+    cv::Mat mm;
+    fifths.convertTo(mm, CV_16UC1, 1000.0 / 5000.0);
+    ASSERT_TRUE(cv::imwrite(png.path().string(), mm));
+  }
+  const auto run = [&](const fs::path& seq, const std::string& out, std::vector<std::string> more) {
+    std::vector<std::string> args = {"run", seq.string(), "--filter", "none", "--deterministic", "--snapshots", "0",
+                                     "--out", (scratch / out).string()};
+    args.insert(args.end(), more.begin(), more.end());
+    return RunHoidslam(scratch, args);
+  };
+  ASSERT_EQ(run(sequence, "original", {}).exit_status, 0);
+  const RunResult in_mm = run(millimetres, "mm", {"--depth-factor", "1000"});
+  ASSERT_EQ(in_mm.exit_status, 0) << in_mm.err;
+  const double original = Summary(scratch / "original")["evaluation"]["ate"]["error_m"]["rmse"].get<double>();
+  const nlohmann::json mm = Summary(scratch / "mm");
+  EXPECT_EQ(mm["tracked"], mm["frames"]);
+  // Millimetres hold the depth a fifth as finely: the same ATE within a tenth of a millimetre.
+  EXPECT_NEAR(mm["evaluation"]["ate"]["error_m"]["rmse"].get<double>(), original, 1e-4);
+  EXPECT_DOUBLE_EQ(mm["provenance"]["settings"]["values"]["DepthMapFactor"].get<double>(), 1000.0);
+
+  const RunResult wrong = run(millimetres, "wrong", {});
+  ExpectOneErrorLine(wrong, "the depth looks too near for a room: read with 5000 units a metre");
+  EXPECT_THAT(wrong.err, HasSubstr("1000 units a metre would put it where a room is"));
+  EXPECT_THAT(wrong.err, HasSubstr((millimetres / "depth").string()));
+  EXPECT_FALSE(fs::exists(scratch / "wrong"));
 }
 
 TEST(CliRun, AMapSavedByOneRunIsTrackedAgainstByTheNext) {

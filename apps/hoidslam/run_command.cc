@@ -1,6 +1,7 @@
 // `hoidslam run`: RGB-D SLAM over a sequence with the features of people and of the objects they handle
 // dropped before tracking. Writes the trajectory, the keyframes, the sparse map and a per-frame log, and, when
 // the sequence has ground truth, prints its ATE and RPE (docs/slam.md).
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <functional>
@@ -14,21 +15,27 @@
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
+#include "command_line.h"
 #include "commands.h"
 #include "detector_options.h"
 #include "sequence_options.h"
+#include "hoidslam/bow/vocabulary_file.h"
 #include "hoidslam/core/error.h"
 #include "hoidslam/core/interrupt.h"
+#include "hoidslam/core/shipped_dir.h"
 #include "hoidslam/eval/evaluation.h"
 #include "hoidslam/eval/loop_recall.h"
 #include "hoidslam/eval/pose_check.h"
 #include "hoidslam/eval/statistics.h"
 #include "hoidslam/io/atomic_file.h"
+#include "hoidslam/io/files.h"
 #include "hoidslam/io/settings.h"
 #include "hoidslam/io/trajectory_file.h"
+#include "hoidslam/pipeline/depth_units.h"
 #include "hoidslam/pipeline/run.h"
 #include "hoidslam/report/html_report.h"
 #include "hoidslam/slam/system.h"
+#include "hoidslam/version.h"
 
 namespace hoidslam::apps {
 namespace {
@@ -38,6 +45,7 @@ namespace fs = std::filesystem;
 struct RunArgs {
   SequenceArgs sequence;
   std::string settings;
+  std::vector<double> camera;  // --camera fx,fy,cx,cy[,k1,k2,p1,p2,k3]
   DetectorArgs detector;
   std::string filter;      // overrides HOID.mode
   std::optional<double> min_interaction_area;  // overrides HOID.minInteractionArea
@@ -185,14 +193,73 @@ nlohmann::json SummaryJson(const pipeline::RunSummary& s, const std::string& seq
             {"tracking_total", MedianMs(s.times, &pipeline::StageTimes::TrackingTotal)}}}};
 }
 
+// How the run was made, for whoever reads its folder later: the command line, the version, the settings as used
+// (the file's values with the command line's overrides), the vocabulary's identity, the detector's file.
+nlohmann::json ProvenanceJson(const io::SettingsChoice& choice, const io::Settings& used, const std::string& vocabulary,
+                              const detect::Detector& detector) {
+  nlohmann::json settings = {{"file", choice.file.empty() ? nlohmann::json(nullptr) : nlohmann::json(choice.file)},
+                             {"chosen", io::ToString(choice.reason)},
+                             {"values", io::SettingsToJson(used)}};
+  const std::vector<std::uint8_t> vocabulary_bytes = io::ReadBinaryFile(vocabulary, "vocabulary file");
+  nlohmann::json detector_source = nullptr;
+  if (const fs::path source = detector.Source(); !source.empty()) {
+    detector_source = {{"file", source}, {"sha256", io::FileSha256(source, "detector file")}};
+  }
+  return {{"command_line", CommandLineJson()},
+          {"version", HOIDSLAM_VERSION},
+          {"settings", std::move(settings)},
+          {"vocabulary",
+           {{"file", vocabulary}, {"identity", fmt::format("{:016x}", bow::StoredChecksum(vocabulary_bytes))}}},
+          {"detector_source", std::move(detector_source)}};
+}
+
+// --camera fx,fy,cx,cy[,k1,k2,p1,p2,k3] in place of the settings' camera, at the size of the sequence's images; the
+// settings' baseline is kept (Camera.bf follows fx).
+void SetCamera(const std::vector<double>& values, const cv::Size& image, io::Settings& settings) {
+  if (values.size() != 4 && values.size() != 9) {
+    throw core::InputError::ForParameter(
+        "--camera", fmt::format("takes fx,fy,cx,cy or fx,fy,cx,cy,k1,k2,p1,p2,k3, got {} values", values.size()));
+  }
+  const double baseline = settings.bf / settings.camera.fx;
+  core::CameraIntrinsics& camera = settings.camera;
+  camera = {values[0], values[1], values[2], values[3]};
+  if (values.size() == 9) {
+    camera.k1 = values[4];
+    camera.k2 = values[5];
+    camera.p1 = values[6];
+    camera.p2 = values[7];
+    camera.k3 = values[8];
+  }
+  camera.width = image.width;
+  camera.height = image.height;
+  settings.bf = baseline * camera.fx;
+  try {
+    settings.Check();
+  } catch (const core::InputError& e) {
+    throw core::InputError::ForParameter("--camera", e.what());
+  }
+}
+
 void RunRun(const RunArgs& args) {
-  std::optional<io::Settings> settings;
-  if (!args.settings.empty()) settings = io::LoadSettings(args.settings);
-  pipeline::RunOptions options = pipeline::RunOptions::FromSettings(settings.value_or(io::Settings{}));
-  if (!settings) spdlog::debug("no --settings: the TUM fr3 camera and the default ORB and HOID settings");
+  // One rule with bench and the API: --settings, else the shipped file the folder's name calls for, else defaults.
+  const io::SettingsChoice choice =
+      io::ChooseSettings(args.settings, SequenceFolder(args.sequence), core::ShippedDir() / "config");
+  io::Settings settings = choice.settings;
+  // --depth-factor may correct settings the run chose itself; a file given with it would be contradicted.
+  const bool settings_given = choice.reason == io::SettingsChoice::Reason::kGiven;
+  if (args.sequence.depth_factor && !settings_given) settings.depth_map_factor = *args.sequence.depth_factor;
+  if (args.min_interaction_area) settings.hoid.min_interaction_area = *args.min_interaction_area;
+  if (args.depth_threshold) settings.hoid.depth_threshold = *args.depth_threshold;
+
+  const io::RgbdSequence sequence =
+      OpenSequence(args.sequence, settings_given ? std::optional(settings.depth_map_factor) : std::nullopt,
+                   settings.depth_map_factor);
+  const core::RgbdFrame first = sequence.LoadFrame(0);
+  if (!args.camera.empty()) SetCamera(args.camera, first.rgb.size(), settings);
+
+  pipeline::RunOptions options = pipeline::RunOptions::FromSettings(settings);
+  options.settings_source = choice.Describe();
   if (!args.filter.empty()) pipeline::SetFilterMode(args.filter, options.exclusion, "--filter");
-  if (args.min_interaction_area) options.exclusion.hoid.min_interaction_area = *args.min_interaction_area;
-  if (args.depth_threshold) options.exclusion.hoid.depth_threshold = *args.depth_threshold;
   options.keypoint_budget = pipeline::ParseKeypointBudget(args.keypoint_budget, "--keypoint-budget");
   options.snapshots = args.snapshots;
   options.system.deterministic = args.deterministic;
@@ -213,18 +280,29 @@ void RunRun(const RunArgs& args) {
   // The map is written at the end of the run: a file that cannot be written is said now, not after the tracking.
   if (!options.save_map.empty()) io::CheckWritableFile(options.save_map, "--save-map");
 
-  const io::RgbdSequence sequence =
-      OpenSequence(args.sequence, settings ? std::optional(settings->depth_map_factor) : std::nullopt);
   const std::unique_ptr<detect::Detector> detector =
       OpenDetector(args.detector, args.sequence, options.exclusion, sequence);
+  // The wrong camera's settings and depth in the wrong unit, said before the run (tracking checks the depth of the
+  // first frame that has enough of it).
+  pipeline::CheckImageSize(first, options);
+  if (const std::optional<pipeline::DepthSpread> spread = pipeline::MeasureDepth(first.depth);
+      spread && options.check_depth_units) {
+    if (const std::string problem = pipeline::DepthUnitsProblem(*spread, options.depth_factor); !problem.empty()) {
+      throw core::InputError::InFile(first.depth_path, problem);
+    }
+  }
 
   io::AtomicFolder out(args.out, args.force, "--out", "use --force to replace it");
+  for (const fs::path& stale : out.stale_removed()) {
+    spdlog::info("removed {}: the unfinished output of an earlier run into the same folder that was killed", stale.string());
+  }
   core::InterruptGuard interrupts;
   const pipeline::RunSummary summary = pipeline::RunSequence(sequence, *detector, options, out.temporary(),
                                                              [&interrupts] { return interrupts.requested(); });
 
   nlohmann::json json =
       SummaryJson(summary, sequence.name(), options.exclusion.ModeName(), detector->Name(), options.realtime);
+  json["provenance"] = ProvenanceJson(choice, settings, args.vocabulary, *detector);
   std::optional<eval::Evaluation> evaluation;
   std::optional<eval::PoseCheck> relocalizations, loops, merges;
   std::optional<eval::LoopRecall> loop_recall;
@@ -298,7 +376,8 @@ void RunRun(const RunArgs& args) {
   }
   if (fs::is_directory(out.temporary() / "snapshots")) written.push_back("snapshots/");
   try {
-    report::WriteRunReport(out.temporary(), evaluation ? groundtruth : fs::path(), out.temporary() / "report.html");
+    report::WriteRunReport(out.temporary(), evaluation ? groundtruth : fs::path(), out.temporary() / "report.html",
+                           out.path());
     written.push_back("report.html");
   } catch (const core::InputError& e) {
     spdlog::warn("no report.html: {}", e.what());  // the run's own outputs are complete; only the page is missing
@@ -406,7 +485,13 @@ void AddRunCommand(CLI::App& app) {
       "groundtruth.txt when the sequence has one");
   AddSequenceOptions(*command, args->sequence);
   command->add_option("--settings", args->settings,
-                      "Settings file (ORB-SLAM3 format with a HOID section, e.g. config/TUM3.yaml; default: TUM fr3)");
+                      "Settings file (ORB-SLAM3 format with a HOID section, e.g. config/TUM3.yaml; default: the shipped "
+                      "file a TUM or Bonn folder's name calls for, freiburg1 → TUM1.yaml, else the TUM fr3 camera)");
+  command->add_option("--camera", args->camera,
+                      "The camera's intrinsics, fx,fy,cx,cy[,k1,k2,p1,p2,k3] (pixels; OpenCV's distortion order), "
+                      "in place of the settings' camera; the image size is the sequence's, the depth units "
+                      "--depth-factor's")
+      ->delimiter(',');
   AddDetectorOptions(*command, args->detector);
   command->add_option("--filter", args->filter,
                       "What is dropped: none, person, classes, hoid2d, hoid3d, hoidplus (HOID with depth, memory and a "

@@ -18,7 +18,8 @@ void AddSequenceOptions(CLI::App& command, SequenceArgs& args) {
                      "Depth PNG units per metre (default: DepthMapFactor of --settings, else 5000)");
 }
 
-io::RgbdSequence OpenSequence(const SequenceArgs& args, std::optional<double> settings_depth_factor) {
+io::RgbdSequence OpenSequence(const SequenceArgs& args, std::optional<double> settings_depth_factor,
+                              double default_depth_factor) {
   const bool folders = !args.rgb_folder.empty() || !args.depth_folder.empty();
   if (args.dataset.empty() == !folders) {
     throw core::InputError::ForParameter("dataset", "give either a dataset folder or --rgb-folder and --depth-folder");
@@ -35,6 +36,7 @@ io::RgbdSequence OpenSequence(const SequenceArgs& args, std::optional<double> se
         "--depth-factor", "the settings file gives DepthMapFactor already; give the depth factor in one place");
   }
   io::SequenceOptions options;
+  options.depth_factor = default_depth_factor;
   if (args.depth_factor) options.depth_factor = *args.depth_factor;
   if (settings_depth_factor) options.depth_factor = *settings_depth_factor;
   options.associations = args.associations;

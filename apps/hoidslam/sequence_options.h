@@ -24,11 +24,12 @@ struct SequenceArgs {
 // Adds the positional dataset and --rgb-folder, --depth-folder, --fps, --associations, --depth-factor.
 void AddSequenceOptions(CLI::App& command, SequenceArgs& args);
 
-// Opens what the options name. The depth factor is --depth-factor or `settings_depth_factor` (a settings file's
-// DepthMapFactor), not both, else 5000. Throws InputError for options that contradict each other (a dataset
-// folder and image folders, --associations with image folders, both depth factors), and, as the readers do,
-// for a missing or empty sequence.
-io::RgbdSequence OpenSequence(const SequenceArgs& args, std::optional<double> settings_depth_factor);
+// Opens what the options name. The depth factor is --depth-factor or `settings_depth_factor` (the DepthMapFactor
+// of a settings file the user gave), not both, else `default_depth_factor`. Throws InputError for options that
+// contradict each other (a dataset folder and image folders, --associations with image folders, both depth
+// factors), and, as the readers do, for a missing or empty sequence.
+io::RgbdSequence OpenSequence(const SequenceArgs& args, std::optional<double> settings_depth_factor,
+                              double default_depth_factor = 5000.0);
 
 // Where a command writes a per-sequence file by default: inside the dataset folder, or beside the image folders.
 std::filesystem::path SequenceFolder(const SequenceArgs& args);

@@ -2,10 +2,11 @@
 // associations.txt (`t_rgb rgb/... t_depth depth/...` lines), tracks each pair, prints every pose and saves the
 // trajectory, keyframes and map.
 //
-//   track_folder FOLDER OUT [--settings S.yaml] [--model M.onnx]
+//   track_folder FOLDER OUT [--settings S.yaml] [--camera fx,fy,cx,cy,width,height --depth-scale S] [--model M.onnx]
 //
-// With a model the ONNX detector finds people and the default filter (hoidplus) drops them; without one, the
-// filter is none.
+// --camera gives the camera by its values, as a camera SDK reports them, with --depth-scale its metres per unit of
+// 16-bit depth (0.001 for millimetres, 0.0002 for TUM's files). With a model the ONNX detector finds people and
+// the default filter (hoidplus) drops them; without one, the filter is none.
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -19,22 +20,35 @@
 
 int main(int argc, char** argv) {
   if (argc < 3) {
-    std::fprintf(stderr, "usage: track_folder FOLDER OUT [--settings S.yaml] [--model M.onnx]\n");
+    std::fprintf(stderr,
+                 "usage: track_folder FOLDER OUT [--settings S.yaml] [--camera fx,fy,cx,cy,width,height "
+                 "--depth-scale S] [--model M.onnx]\n");
     return 2;
   }
   const std::string folder = argv[1];
   hoidslam::Options options;
   options.filter = "none";
   options.detector = hoidslam::DetectorKind::kNone;
+  double depth_scale = hoidslam::Camera{}.depth_scale;
   for (int i = 3; i + 1 < argc; i += 2) {
     const std::string flag = argv[i];
     if (flag == "--settings") options.settings = argv[i + 1];
+    if (flag == "--camera") {
+      hoidslam::Camera camera;
+      char comma = ',';
+      std::istringstream values(argv[i + 1]);
+      values >> camera.fx >> comma >> camera.fy >> comma >> camera.cx >> comma >> camera.cy >> comma >>
+          camera.width >> comma >> camera.height;
+      options.camera = camera;
+    }
+    if (flag == "--depth-scale") depth_scale = std::stod(argv[i + 1]);
     if (flag == "--model") {
       options.filter = "";  // the settings' HOID.mode, else hoidplus
       options.detector = hoidslam::DetectorKind::kOnnx;
       options.model = argv[i + 1];
     }
   }
+  if (options.camera) options.camera->depth_scale = depth_scale;
   std::printf("hoidslam %s (headers %s)\nshipped files: %s\n", hoidslam::Version().c_str(), HOIDSLAM_VERSION,
               hoidslam::ShippedDir().c_str());
   try {

@@ -14,6 +14,7 @@ docs/python.md describes the module; help(hoidslam.System) each class.
 
 from ._hoidslam import (
     AteResult,
+    Camera,
     Detection,
     DetectionsFile,
     Detector,
@@ -30,6 +31,7 @@ from ._hoidslam import (
     judge_boxes,
     render_synthetic,
     rpe,
+    settings_for,
     shipped_dir,
     version,
 )
@@ -37,6 +39,7 @@ from ._hoidslam import (
 __version__ = version()
 
 __all__ = [
-    "AteResult", "Detection", "DetectionsFile", "Detector", "Error", "ErrorSummary", "Frame", "FrameResult", "InputError", "JudgedBox",
-    "RpeSummary", "Sequence", "System", "ate", "judge_boxes", "render_synthetic", "rpe", "shipped_dir", "version",
+    "AteResult", "Camera", "Detection", "DetectionsFile", "Detector", "Error", "ErrorSummary", "Frame", "FrameResult", "InputError", "JudgedBox",
+    "RpeSummary", "Sequence", "System", "ate", "judge_boxes", "render_synthetic", "rpe", "settings_for", "shipped_dir",
+    "version",
 ]

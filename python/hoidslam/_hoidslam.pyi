@@ -12,7 +12,7 @@ _Path = str | PathLike[str]
 class Error(RuntimeError):
     """Base of hoidslam's errors."""
 
-class InputError(ValueError):
+class InputError(Error, ValueError):
     """Bad input: the message names the argument, or the file and line."""
 
 def version() -> str:
@@ -21,6 +21,38 @@ def version() -> str:
 def shipped_dir() -> Path:
     """Where hoidslam's shipped files are: config/*.yaml and data/vocabulary/ (<prefix>/share/hoidslam when
     installed, else the source tree)."""
+
+def settings_for(folder: _Path) -> Path | None:
+    """The shipped settings file a TUM or Bonn folder's name calls for, as hoidslam run chooses it without
+    --settings (freiburg1 or fr1_ → config/TUM1.yaml, ..., bonn → Bonn.yaml); None for any other name."""
+
+class Camera:
+    """A camera given by its values, as its SDK reports them: the colour camera's intrinsics at the resolution it
+    streams, depth registered to it. depth_scale: metres per uint16 depth unit (0.001: millimetres); baseline: metres
+    between the depth camera's projector and sensor."""
+
+    fx: float
+    fy: float
+    cx: float
+    cy: float
+    width: int
+    height: int
+    distortion: tuple[float, float, float, float, float]
+    depth_scale: float
+    baseline: float
+    def __init__(
+        self,
+        *,
+        fx: float,
+        fy: float,
+        cx: float,
+        cy: float,
+        width: int,
+        height: int,
+        distortion: _Seq[float] = (0.0, 0.0, 0.0, 0.0, 0.0),
+        depth_scale: float = 0.001,
+        baseline: float = 0.075,
+    ) -> None: ...
 
 class Detection:
     """One object a detector found: label (COCO name), box (x, y, width, height) in pixels, score, class_id."""
@@ -105,6 +137,7 @@ class System:
         self,
         *,
         settings: _Path | None = None,
+        camera: Camera | None = None,
         filter: str = "",
         detector: str = "given",
         model: _Path | None = None,
@@ -114,6 +147,7 @@ class System:
         vocabulary: _Path | None = None,
     ) -> None:
         """settings: ORB-SLAM3-style YAML (shipped_dir()/"config/TUM3.yaml"); None: TUM fr3 defaults.
+        camera: a Camera from the SDK's values, in place of the settings' camera, depth factor and baseline.
         filter: none, person, classes, hoid2d, hoid3d, hoidplus; "": the settings' HOID.mode, else hoidplus.
         detector: "given" (detections passed to track), "onnx" (model runs inside), "none".
         realtime: the detector in its own thread. deterministic: byte-identical results on every run."""
@@ -184,7 +218,13 @@ class DetectionsFile:
 
     def __init__(self, path: _Path) -> None: ...
     def find(self, timestamp: float) -> list[Detection] | None:
-        """The frame's detections (within a microsecond); None when the file has no such frame."""
+        """The frame's detections (within 1 ms: timestamps rounded to the millisecond match); None when the file
+        has no such frame, the first time with a warning, each time counted in missed."""
+    @property
+    def missed(self) -> int:
+        """How many calls of find found no frame."""
+    @property
+    def path(self) -> Path: ...
     def __len__(self) -> int: ...
 
 class Detector:

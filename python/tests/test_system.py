@@ -4,6 +4,7 @@ ATE; bad arrays raise an InputError that names the argument."""
 import json
 import os
 import subprocess
+import threading
 
 import numpy as np
 import pytest
@@ -57,6 +58,70 @@ def test_results_are_views_with_verdicts(walk):
     assert slam.trajectory().shape == (len(sequence), 8)
 
 
+def test_threads_share_one_system(walk):
+    """A camera thread and a replay thread tracking, a viewer reading: every call is tracked whole or refused for
+    coming after a newer frame, never a crash or a hang."""
+    sequence = hoidslam.Sequence(walk)
+    frames = list(sequence)
+    slam = hoidslam.System(filter="none")
+    next_frame = iter(range(len(frames)))
+    lock = threading.Lock()
+    results, refused, errors = [], [], []
+    done = threading.Event()
+
+    def track():
+        while True:
+            with lock:
+                i = next(next_frame, None)
+            if i is None:
+                return
+            try:
+                results.append(slam.track(frames[i].rgb, frames[i].depth, frames[i].timestamp))
+            except hoidslam.InputError as e:
+                (refused if "frames must come in time order" in str(e) else errors).append(str(e))
+
+    def read():
+        while not done.is_set():
+            slam.map_points()
+            slam.keyframes()
+            slam.trajectory()
+
+    trackers = [threading.Thread(target=track) for _ in range(4)]
+    reader = threading.Thread(target=read)
+    for t in trackers + [reader]:
+        t.start()
+    for t in trackers:
+        t.join(timeout=120)
+    done.set()
+    reader.join(timeout=120)
+    assert not any(t.is_alive() for t in trackers + [reader])
+    assert errors == []
+    assert len(results) + len(refused) == len(frames)
+    results.sort(key=lambda r: r.index)
+    assert [r.index for r in results] == list(range(len(results)))
+    assert all(a.timestamp < b.timestamp for a, b in zip(results, results[1:]))
+    slam.finish()
+    assert len(slam.trajectory()) == sum(r.pose is not None for r in results)
+
+
+def test_a_camera_given_by_its_values_takes_millimetres(walk):
+    """Intrinsics and depth scale from the camera's SDK; millimetre depth as RealSense and OpenNI give it."""
+    camera = hoidslam.Camera(fx=535.4, fy=539.2, cx=320.1, cy=247.6, width=640, height=480, depth_scale=0.001)
+    slam = hoidslam.System(camera=camera, filter="none")
+    assert slam.depth_factor == 1000.0
+    frames = list(hoidslam.Sequence(walk))
+    millimetres = [np.round(f.depth * 1000).astype(np.uint16) for f in frames]
+    results = [slam.track(f.rgb, mm, f.timestamp) for f, mm in zip(frames, millimetres)]
+    assert all(r.pose is not None for r in results)
+    # The same millimetres read as TUM's 5000 units a metre: refused on the first frame, saying so.
+    error = message(lambda: hoidslam.System(filter="none").track(frames[0].rgb, millimetres[0], frames[0].timestamp))
+    assert error.startswith("parameter depth: the depth looks too near for a room")
+    assert "1000 units a metre would put it where a room is" in error
+    camera.cx = 700.0
+    assert message(lambda: hoidslam.System(camera=camera)).startswith("parameter camera.cx: must be in [0, width=640]")
+    assert "Camera(fx=535.4" in repr(camera)
+
+
 def message(call):
     with pytest.raises(hoidslam.InputError) as error:
         call()
@@ -83,6 +148,58 @@ def test_wrong_arrays_raise_an_error_naming_the_argument():
     assert message(lambda: hoidslam.System(filter="hoid2d", detector="none")).startswith("parameter detector")
     assert message(lambda: hoidslam.ate(np.zeros((5, 7)), np.zeros((5, 8)))).startswith("parameter groundtruth")
     assert isinstance(hoidslam.InputError("x"), ValueError)
+
+
+def test_wrong_argument_types_are_named_and_never_printed():
+    """What a camera loop gets wrong on its first day: a None frame, a list of pixels, a string timestamp."""
+    slam = hoidslam.System(filter="none")
+    rgb = np.zeros((480, 640, 3), np.uint8)
+    depth = np.zeros((480, 640), np.uint16)
+    pixels = rgb.tolist()  # printed, this list would be megabytes
+    for call, expected in [
+        (lambda: slam.track(None, depth, 1.0), "parameter rgb: must be a numpy array, uint8 (height, width, 3) or "
+                                               "(height, width), got None"),
+        (lambda: slam.track(pixels, depth, 1.0), "parameter rgb: must be a numpy array, uint8 (height, width, 3) or "
+                                                 "(height, width), got list"),
+        (lambda: slam.track(rgb, None, 1.0), "parameter depth: must be a numpy array, (height, width) uint16 or "
+                                             "float32, got None"),
+        (lambda: slam.track(rgb, depth, "now"), "parameter timestamp: must be a number of seconds, got str"),
+        (lambda: slam.track(rgb, depth, 1.0, [{"label": "person"}]),
+         "parameter detections[0]: must be a hoidslam.Detection, got dict"),
+        (lambda: slam.track(rgb, depth, 1.0, "person"),
+         "parameter detections: must be a list of hoidslam.Detection or None, got str"),
+    ]:
+        error = message(call)
+        assert error == expected
+        assert len(error) < 200
+
+
+def test_save_into_a_folder_that_cannot_be_made_names_it(walk):
+    slam = hoidslam.System(filter="none")
+    frame = hoidslam.Sequence(walk)[0]
+    slam.track(frame.rgb, frame.depth, frame.timestamp)
+    with pytest.raises(hoidslam.Error) as error:
+        slam.save("/proc/hoidslam-out")
+    assert str(error.value).startswith("/proc/hoidslam-out: cannot create the folder to save into")
+
+
+def test_detections_rounded_to_the_millisecond_are_found_and_misses_are_counted(walk, tmp_path):
+    rounded = tmp_path / "rounded.jsonl"
+    lines = []
+    for line in (walk / "detections.jsonl").read_text().splitlines():
+        entry = json.loads(line)
+        if "timestamp" in entry:
+            entry["timestamp"] = round(entry["timestamp"], 3)
+        lines.append(json.dumps(entry))
+    rounded.write_text("\n".join(lines) + "\n")
+    detections = hoidslam.DetectionsFile(rounded)
+    timestamps = hoidslam.Sequence(walk).timestamps()
+    assert all(detections.find(t) is not None for t in timestamps)
+    assert detections.missed == 0
+    with pytest.warns(UserWarning, match="no line for timestamp 1.000000 .within 1 ms.: that frame gets no boxes"):
+        assert detections.find(1.0) is None
+    assert detections.find(2.0) is None  # counted, not warned again
+    assert detections.missed == 2
 
 
 def test_rows_with_padding_and_rgb_order_are_taken():

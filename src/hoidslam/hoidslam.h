@@ -44,6 +44,11 @@ std::string Version();
 // from.
 std::filesystem::path ShippedDir();
 
+// The shipped settings file a TUM or Bonn sequence folder's name calls for, as `hoidslam run` and `bench` choose it
+// without --settings: config/TUM1.yaml, TUM2 or TUM3 for freiburg1/2/3 (or fr1_, fr2_, fr3_), Bonn.yaml for bonn;
+// empty for any other name (then the defaults, the TUM fr3 camera, are what Options with no settings give).
+std::filesystem::path SettingsForSequence(const std::filesystem::path& folder);
+
 // How the bytes of an image are laid out.
 enum class PixelFormat {
   kBgr,   // colour, 8 bits a channel, blue first (OpenCV's order)
@@ -93,10 +98,28 @@ enum class DetectorKind {
   kNone,   // no boxes: only filter "none" (the plain baseline) runs without them
 };
 
+// A camera given by its values, as its SDK reports them (docs/library.md, "Your own camera"): the colour camera's
+// intrinsics at the resolution it streams, with the depth image registered to it, pixel for pixel.
+struct Camera {
+  double fx = 0.0, fy = 0.0;  // focal lengths, pixels (> 0)
+  double cx = 0.0, cy = 0.0;  // principal point, pixels (inside the image)
+  std::array<double, 5> distortion{};  // k1, k2, p1, p2, k3 (OpenCV's order); all 0: none
+  int width = 0, height = 0;           // image size, pixels
+  // Metres per unit of uint16 depth: 0.001 for millimetres (RealSense's get_depth_scale(), OpenNI, Azure Kinect),
+  // 0.0002 for TUM's 5000 units a metre. Float depth is in metres whatever this says.
+  double depth_scale = 0.001;
+  // Metres between the depth camera's projector and sensor (or stereo pair), as ORB-SLAM's Camera.bf / fx: points
+  // nearer than 40 baselines count as close. Time-of-flight cameras have none; 0.09 makes 3.6 m close.
+  double baseline = 0.075;
+};
+
 struct Options {
   // ORB-SLAM3-style YAML with a HOID section (e.g. ShippedDir() / "config/TUM3.yaml"); empty: the TUM fr3 camera
   // and the default ORB and HOID settings.
   std::filesystem::path settings;
+  // The camera, given by the program: replaces the settings' camera, DepthMapFactor and Camera.bf (their ORB and
+  // HOID sections still apply). Checked: InputError naming camera.fx, camera.width, ...
+  std::optional<Camera> camera;
   // What is dropped, as `hoidslam run --filter` takes it: none, person, classes, hoid2d, hoid3d, hoidplus (or
   // hoidplus:depth+memory...); empty: HOID.mode of the settings, else hoidplus.
   std::string filter;
@@ -186,6 +209,13 @@ struct MapPoint {
 
 // One SLAM session: frames in, in time order; poses, trajectory and map out. Not copyable; movable. Tracking runs
 // on the caller's thread (local mapping, and with Options::realtime the detector, in threads of their own).
+//
+// Safe to share between threads (a camera thread tracking, a viewer reading): every call takes one lock, so
+// Track calls run one at a time, frames taken in the order the calls get the lock, and Trajectory, KeyFrames and
+// MapPoints read between two frames (waiting for the frame in progress). A frame not newer than the last one
+// tracked is refused with an InputError naming `timestamp`: with several tracking threads, give each frame its
+// camera's timestamp and expect such refusals when two threads race. Moving or destroying a System while another
+// thread uses it is the caller's error, as for any object.
 class System {
  public:
   // Throws InputError naming the parameter or file: an unreadable settings file, an unknown filter, a filter that
@@ -273,9 +303,12 @@ class DetectionsFile {
   ~DetectionsFile();
   DetectionsFile(DetectionsFile&&) noexcept;
   DetectionsFile& operator=(DetectionsFile&&) noexcept;
-  // The detections of the frame at `timestamp` (within a microsecond), nullopt when the file has no such frame.
+  // The detections of the frame at `timestamp` (within a millisecond, so that timestamps rounded to the
+  // millisecond still match), nullopt when the file has no such frame; missed() counts those.
   std::optional<std::vector<Detection>> Find(double timestamp) const;
-  std::size_t size() const;  // frames
+  std::size_t size() const;    // frames
+  std::size_t missed() const;  // calls of Find that found no frame
+  std::filesystem::path path() const;
 
  private:
   class Impl;

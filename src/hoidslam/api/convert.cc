@@ -19,8 +19,8 @@ cv::Mat Wrap(const void* data, int width, int height, std::size_t stride, int ty
     throw InputError::ForParameter(name, fmt::format("size must be positive, got {}x{}", width, height));
   }
   if (expected_width > 0 && (width != expected_width || height != expected_height)) {
-    throw InputError::ForParameter(name, fmt::format("is {}x{} but the camera's images are {}x{} (Camera.width, "
-                                                     "Camera.height of the settings)",
+    throw InputError::ForParameter(name, fmt::format("is {}x{} but the camera's images are {}x{} (the camera's width "
+                                                     "and height, or Camera.width and Camera.height of the settings)",
                                                      width, height, expected_width, expected_height));
   }
   const std::size_t row = static_cast<std::size_t>(width) * CV_ELEM_SIZE(type);

@@ -1,8 +1,10 @@
 // The public API's System: the caller's buffers wrapped as a frame (no copy where the layout allows), handed to
 // the per-frame work `hoidslam run` does (pipeline::Session), the outcome translated into the API's plain types.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <optional>
 #include <string>
 
@@ -20,6 +22,43 @@
 
 namespace hoidslam {
 namespace {
+
+// Throws InputError naming the value of a camera no program could have meant.
+void CheckCamera(const Camera& camera) {
+  const auto require = [](bool ok, const char* name, const std::string& what) {
+    if (!ok) throw InputError::ForParameter(std::string("camera.") + name, what);
+  };
+  const auto positive = [&](double value, const char* name) {
+    require(value > 0.0 && std::isfinite(value), name, fmt::format("must be > 0, got {}", value));
+  };
+  positive(camera.fx, "fx");
+  positive(camera.fy, "fy");
+  require(camera.width >= 1, "width", fmt::format("must be >= 1, got {}", camera.width));
+  require(camera.height >= 1, "height", fmt::format("must be >= 1, got {}", camera.height));
+  require(camera.cx >= 0.0 && camera.cx <= camera.width, "cx",
+          fmt::format("must be in [0, width={}], got {}", camera.width, camera.cx));
+  require(camera.cy >= 0.0 && camera.cy <= camera.height, "cy",
+          fmt::format("must be in [0, height={}], got {}", camera.height, camera.cy));
+  for (const double k : camera.distortion) {
+    require(std::isfinite(k), "distortion", fmt::format("must be finite numbers, got {}", k));
+  }
+  positive(camera.depth_scale, "depth_scale");
+  positive(camera.baseline, "baseline");
+}
+
+// The settings file's values (or the defaults), with the program's camera in place of the file's.
+io::Settings SettingsOf(const Options& options) {
+  io::Settings settings = options.settings.empty() ? io::Settings{} : io::LoadSettings(options.settings);
+  if (!options.camera) return settings;
+  const Camera& camera = *options.camera;
+  CheckCamera(camera);
+  const std::array<double, 5>& k = camera.distortion;
+  settings.camera = {camera.fx, camera.fy, camera.cx, camera.cy, k[0], k[1], k[2], k[3], k[4],
+                     camera.width, camera.height};
+  settings.depth_map_factor = 1.0 / camera.depth_scale;
+  settings.bf = camera.baseline * camera.fx;
+  return settings;
+}
 
 pipeline::RunOptions ToRunOptions(const Options& options, const io::Settings& settings) {
   pipeline::RunOptions run = pipeline::RunOptions::FromSettings(settings);
@@ -134,6 +173,10 @@ std::string Version() { return HOIDSLAM_VERSION; }
 
 std::filesystem::path ShippedDir() { return core::ShippedDir(); }
 
+std::filesystem::path SettingsForSequence(const std::filesystem::path& folder) {
+  return io::ShippedSettingsForFolder(folder, core::ShippedDir() / "config");
+}
+
 std::string_view ToString(TrackingState state) {
   switch (state) {
     case TrackingState::kOk: return "ok";
@@ -153,7 +196,7 @@ std::string_view FrameResult::DropReason(std::size_t i) const {
 class System::Impl {
  public:
   explicit Impl(const Options& options)
-      : settings_(options.settings.empty() ? io::Settings{} : io::LoadSettings(options.settings)),
+      : settings_(SettingsOf(options)),
         detector_(MakeDetector(options)),
         session_(ToRunOptions(options, settings_), detector_.get(), {}),
         given_(options.detector == DetectorKind::kGiven) {}
@@ -188,8 +231,13 @@ class System::Impl {
 
   pipeline::Session& session() { return session_; }
   const io::Settings& settings() const { return settings_; }
+  // Held by every call that tracks, finishes or reads the session: frames are tracked one at a time, in the order
+  // the calls take it, and the trajectory and map are read between frames (local mapping's own threads lock the
+  // map themselves).
+  std::mutex& mutex() const { return mutex_; }
 
  private:
+  mutable std::mutex mutex_;
   io::Settings settings_;
   std::unique_ptr<detect::Detector> detector_;  // before the session, whose detector thread uses it
   pipeline::Session session_;
@@ -205,20 +253,27 @@ System& System::operator=(System&&) noexcept = default;
 
 FrameResult System::Track(const ImageView& rgb, const ImageView& depth, double timestamp,
                           std::span<const Detection> detections, double depth_delay) {
+  const std::lock_guard lock(impl_->mutex());
   return impl_->Track(rgb, depth, timestamp, detections, depth_delay);
 }
 
-void System::Finish() { impl_->session().Finish(); }
+void System::Finish() {
+  const std::lock_guard lock(impl_->mutex());
+  impl_->session().Finish();
+}
 
 std::vector<StampedPose> System::Trajectory() const {
+  const std::lock_guard lock(impl_->mutex());
   return ToStampedPoses(impl_->session().system().FrameTrajectory());
 }
 
 std::vector<StampedPose> System::KeyFrames() const {
+  const std::lock_guard lock(impl_->mutex());
   return ToStampedPoses(impl_->session().system().KeyFrameTrajectory());
 }
 
 std::vector<MapPoint> System::MapPoints() const {
+  const std::lock_guard lock(impl_->mutex());
   std::vector<MapPoint> points;
   for (const slam::MapPointSample& p : impl_->session().system().MapPoints()) {
     points.push_back({{p.position.x(), p.position.y(), p.position.z()}, {p.color[2], p.color[1], p.color[0]},
@@ -228,8 +283,11 @@ std::vector<MapPoint> System::MapPoints() const {
 }
 
 void System::Save(const std::filesystem::path& folder) {
-  Finish();
-  std::filesystem::create_directories(folder);
+  const std::lock_guard lock(impl_->mutex());
+  impl_->session().Finish();
+  std::error_code error;
+  std::filesystem::create_directories(folder, error);
+  if (error) throw InputError::InFile(folder, "cannot create the folder to save into: " + error.message());
   impl_->session().WriteOutputs(folder);
 }
 

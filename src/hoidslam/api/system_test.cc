@@ -1,4 +1,9 @@
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <gmock/gmock.h>
@@ -21,6 +26,7 @@ namespace hoidslam {
 namespace {
 
 namespace fs = std::filesystem;
+using ::testing::AllOf;
 using ::testing::HasSubstr;
 
 // Options with `filter`, changed by `change`.
@@ -91,6 +97,116 @@ TEST(System, GivesTheTrajectoryOfHoidslamRunByteForByte) {
   for (const char* file : {"trajectory.txt", "keyframes.txt", "map.ply"}) {
     EXPECT_EQ(testing::ReadText(dir / "api" / file), testing::ReadText(dir / "run" / file)) << file;
   }
+}
+
+// A camera thread and a replay thread, a viewer reading the map: Track from four threads and reads from a fifth
+// (run under ThreadSanitizer in CI). Each call is either tracked whole or refused for coming after a newer frame;
+// the frames tracked keep their time order, and the trajectory read at the end is theirs.
+TEST(System, TracksFromFourThreadsWhileAFifthReadsTheMap) {
+  HOIDSLAM_SHARED_PATH_OR_SKIP(tum_dir, "data/tum");
+  testing::TempDir dir;
+  const io::RgbdSequence sequence =
+      io::RgbdSequence::OpenTum(synth::fixtures::RenderShortWalk(dir / "walk", tum_dir, 40));
+  std::vector<core::RgbdFrame> frames;
+  for (std::size_t i = 0; i < sequence.size(); ++i) frames.push_back(sequence.LoadFrame(i));
+
+  System slam(WithFilter("none"));
+  std::atomic<std::size_t> next{0};
+  std::atomic<int> tracking_threads{4};
+  std::mutex results_mutex;
+  std::vector<FrameResult> results;
+  std::vector<std::string> other_errors;
+  std::atomic<std::size_t> refused{0};
+  const auto track = [&] {
+    for (std::size_t i; (i = next++) < frames.size();) {
+      try {
+        FrameResult r = Track(slam, frames[i].rgb, frames[i].depth, frames[i].timestamp);
+        const std::lock_guard lock(results_mutex);
+        results.push_back(std::move(r));
+      } catch (const InputError& e) {
+        if (std::string(e.what()).find("frames must come in time order") != std::string::npos) {
+          ++refused;
+        } else {
+          const std::lock_guard lock(results_mutex);
+          other_errors.emplace_back(e.what());
+        }
+      }
+    }
+    --tracking_threads;
+  };
+  std::size_t reads = 0;
+  bool keyframes_in_order = true, points_finite = true;
+  const auto read = [&] {
+    while (tracking_threads > 0) {
+      const std::vector<StampedPose> keyframes = slam.KeyFrames();
+      keyframes_in_order &= std::is_sorted(keyframes.begin(), keyframes.end(),
+                                           [](const auto& a, const auto& b) { return a.timestamp < b.timestamp; });
+      for (const MapPoint& p : slam.MapPoints()) {
+        points_finite &= std::all_of(p.position.begin(), p.position.end(), [](double x) { return std::isfinite(x); });
+      }
+      slam.Trajectory();
+      ++reads;
+    }
+  };
+  {
+    std::vector<std::jthread> threads;
+    for (int t = 0; t < 4; ++t) threads.emplace_back(track);
+    threads.emplace_back(read);
+  }
+  EXPECT_THAT(other_errors, ::testing::IsEmpty());
+  EXPECT_EQ(results.size() + refused, frames.size());
+  EXPECT_GT(reads, 0U);
+  EXPECT_TRUE(keyframes_in_order);
+  EXPECT_TRUE(points_finite);
+  // Frames are numbered in the order they were tracked, and that order is their time order.
+  std::sort(results.begin(), results.end(), [](const auto& a, const auto& b) { return a.index < b.index; });
+  std::size_t tracked = 0;
+  for (std::size_t k = 0; k < results.size(); ++k) {
+    EXPECT_EQ(results[k].index, k);
+    if (k > 0) {
+      EXPECT_GT(results[k].timestamp, results[k - 1].timestamp);
+    }
+    tracked += results[k].T_wc ? 1 : 0;
+  }
+  EXPECT_GT(tracked, 0U);
+  slam.Finish();
+  EXPECT_EQ(slam.Trajectory().size(), tracked);
+}
+
+// A program's own camera: intrinsics and depth scale from its SDK, millimetre depth as RealSense, OpenNI and Azure
+// Kinect give it. Tracked as the same frames in TUM's units are; the same millimetres with the default 5000 units a
+// metre are refused on the first frame, naming depth and the fix.
+TEST(System, ACameraGivenByValuesTakesMillimetreDepthAndTheWrongUnitIsRefused) {
+  HOIDSLAM_SHARED_PATH_OR_SKIP(tum_dir, "data/tum");
+  testing::TempDir dir;
+  const io::RgbdSequence sequence =
+      io::RgbdSequence::OpenTum(synth::fixtures::RenderShortWalk(dir / "walk", tum_dir, 20));
+  const core::CameraIntrinsics tum3;  // the synthetic camera's intrinsics
+  Options options = WithFilter("none", kDeterministic);
+  options.camera = Camera{tum3.fx, tum3.fy, tum3.cx, tum3.cy, {}, 640, 480, 0.001, 0.075};
+  System camera(options);
+  System defaults(WithFilter("none"));
+  std::size_t tracked = 0;
+  for (std::size_t i = 0; i < sequence.size(); ++i) {
+    const core::RgbdFrame frame = sequence.LoadFrame(i);
+    cv::Mat millimetres;
+    frame.depth.convertTo(millimetres, CV_16UC1, 1000.0);
+    tracked += Track(camera, frame.rgb, millimetres, frame.timestamp).T_wc ? 1 : 0;
+    if (i == 0) {
+      EXPECT_THAT(ErrorOf([&] { Track(defaults, frame.rgb, millimetres, frame.timestamp); }),
+                  AllOf(HasSubstr("parameter depth: the depth looks too near for a room: read with 5000 units a "
+                                  "metre"),
+                        HasSubstr("1000 units a metre would put it where a room is")));
+    }
+  }
+  EXPECT_EQ(tracked, sequence.size());
+  EXPECT_EQ(camera.depth_factor(), 1000.0);
+
+  options.camera->cx = 700.0;
+  EXPECT_THAT(ErrorOf([&] { System{options}; }), HasSubstr("parameter camera.cx: must be in [0, width=640], got 700"));
+  options.camera->cx = 320.0;
+  options.camera->depth_scale = 0.0;
+  EXPECT_THAT(ErrorOf([&] { System{options}; }), HasSubstr("parameter camera.depth_scale: must be > 0"));
 }
 
 TEST(System, TakesRgbGreyAndFloatDepthAndPaddedRows) {

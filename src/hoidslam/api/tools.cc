@@ -1,5 +1,6 @@
 // The public API beside System (hoidslam.h): reading recorded sequences, the ONNX detector and the HOID filter on
 // their own, ATE / RPE, and synthetic sequences, each a thin layer over its module.
+#include <atomic>
 #include <cstring>
 
 #include <fmt/format.h>
@@ -90,6 +91,7 @@ class DetectionsFile::Impl {
  public:
   explicit Impl(const std::filesystem::path& path) : file(io::DetectionsFile::Read(path)) {}
   io::DetectionsFile file;
+  mutable std::atomic<std::size_t> missed{0};  // Find may be called from several threads
 };
 
 DetectionsFile::DetectionsFile(const std::filesystem::path& path) : impl_(std::make_unique<Impl>(path)) {}
@@ -99,11 +101,16 @@ DetectionsFile& DetectionsFile::operator=(DetectionsFile&&) noexcept = default;
 
 std::optional<std::vector<Detection>> DetectionsFile::Find(double timestamp) const {
   const io::FrameDetections* frame = impl_->file.Find(timestamp);
-  if (frame == nullptr) return std::nullopt;
+  if (frame == nullptr) {
+    ++impl_->missed;
+    return std::nullopt;
+  }
   return api::ToApiDetections(frame->detections);
 }
 
 std::size_t DetectionsFile::size() const { return impl_->file.frames().size(); }
+std::size_t DetectionsFile::missed() const { return impl_->missed; }
+std::filesystem::path DetectionsFile::path() const { return impl_->file.path(); }
 
 class Detector::Impl {
  public:

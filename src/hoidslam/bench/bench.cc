@@ -19,6 +19,7 @@
 #include "hoidslam/core/stopwatch.h"
 #include "hoidslam/io/atomic_file.h"
 #include "hoidslam/io/files.h"
+#include "hoidslam/io/settings.h"
 #include "hoidslam/report/html_report.h"
 
 namespace hoidslam::bench {
@@ -87,7 +88,7 @@ std::vector<BenchSequence> RequestedSequences(const BenchRequest& request) {
       return std::any_of(sequences.begin(), sequences.end(), [&](const BenchSequence& s) { return s.name == n; });
     };
     for (int k = 2; taken(name); ++k) name = fmt::format("{}-{}", io::NormalFolder(folder).filename().string(), k);
-    const fs::path settings = request.settings.empty() ? SettingsForFolder(folder, request.config_dir) : request.settings;
+    const fs::path settings = request.settings.empty() ? io::ShippedSettingsForFolder(folder, request.config_dir) : request.settings;
     sequences.push_back(InspectSequence(name, folder, settings));
     if (!sequences.back().problem.empty()) spdlog::warn("{}: left out: {}", name, sequences.back().problem);
   }
@@ -182,19 +183,6 @@ std::string CpuModel() {
 }
 
 }  // namespace
-
-fs::path SettingsForFolder(const fs::path& folder, const fs::path& config_dir) {
-  std::string name = io::NormalFolder(folder).filename().string();
-  std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return std::tolower(c); });
-  // TUM names its downloads rgbd_dataset_freiburg1_rpy; the shared recordings and many users shorten it to fr1_rpy.
-  for (const auto& [key, file] : {std::pair{"freiburg1", "TUM1.yaml"}, std::pair{"freiburg2", "TUM2.yaml"},
-                                  std::pair{"freiburg3", "TUM3.yaml"}, std::pair{"fr1_", "TUM1.yaml"},
-                                  std::pair{"fr2_", "TUM2.yaml"}, std::pair{"fr3_", "TUM3.yaml"},
-                                  std::pair{"bonn", "Bonn.yaml"}}) {
-    if (name.find(key) != std::string::npos && fs::exists(config_dir / file)) return config_dir / file;
-  }
-  return {};
-}
 
 fs::path SharedDataDir() {
   if (const char* shared = std::getenv("HOIDSLAM_SHARED_DIR"); shared != nullptr && *shared != '\0') return shared;

@@ -32,10 +32,6 @@ struct BenchRequest {
   bool force = false;                 // start over in a non-empty folder (rendered sequences are kept)
 };
 
-// The shipped settings file for a TUM / Bonn folder name (freiburg1/2/3 or fr1_/fr2_/fr3_, bonn), or empty when none
-// fits.
-std::filesystem::path SettingsForFolder(const std::filesystem::path& folder, const std::filesystem::path& config_dir);
-
 // The shared data folder (real recordings, textures, models): $HOIDSLAM_SHARED_DIR when set, else the folder
 // configured at build time (`shared` beside the checkout). Not checked for existence.
 std::filesystem::path SharedDataDir();

@@ -16,17 +16,6 @@ namespace fs = std::filesystem;
 using ::testing::ElementsAre;
 using ::testing::HasSubstr;
 
-TEST(SettingsForFolder, PicksTheCameraByTumsLongAndShortNames) {
-  const testing::TempDir config;
-  for (const char* file : {"TUM1.yaml", "TUM2.yaml", "TUM3.yaml", "Bonn.yaml"}) testing::WriteText(config / file, "");
-  EXPECT_EQ(SettingsForFolder("/data/rgbd_dataset_freiburg1_rpy", config.path()), config / "TUM1.yaml");
-  EXPECT_EQ(SettingsForFolder("/data/fr1_rpy", config.path()), config / "TUM1.yaml");
-  EXPECT_EQ(SettingsForFolder("/data/fr2_desk/", config.path()), config / "TUM2.yaml");
-  EXPECT_EQ(SettingsForFolder("/data/FR3_walking_xyz", config.path()), config / "TUM3.yaml");
-  EXPECT_EQ(SettingsForFolder("/data/rgbd_bonn_crowd", config.path()), config / "Bonn.yaml");
-  EXPECT_EQ(SettingsForFolder("/data/my_office", config.path()), fs::path());
-}
-
 TEST(ResolveSequenceFolder, ANameThatIsNoFolderHereIsASharedRecording) {
   const testing::TempDir scratch;
   const fs::path shared = scratch / "shared";

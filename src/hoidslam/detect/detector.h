@@ -3,6 +3,7 @@
 // module), FileDetector (replays a detections file written earlier, by `hoidslam detect` or by any other tool)
 // and NoDetector. MakeDetector (make_detector.h) picks one from options.
 
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,9 @@ class Detector {
 
   // What produces the detections, for logs and detections-file headers: e.g. "yolox_nano.onnx".
   virtual std::string Name() const = 0;
+
+  // The file the detections come from (a model, a detections file), for the record of a run; empty: none.
+  virtual std::filesystem::path Source() const { return {}; }
 };
 
 // Finds nothing: the baseline that keeps every feature.

@@ -22,6 +22,7 @@ class FileDetector final : public Detector {
 
   // The detector named in the file's header, else the file name.
   std::string Name() const override;
+  std::filesystem::path Source() const override { return file_.path(); }
 
   // Checks up front that the file has a line for each of `timestamps`, the frames of `sequence_name`, so that a
   // wrong file fails before a long run rather than in the middle of it. Throws InputError naming the file.

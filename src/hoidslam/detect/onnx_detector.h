@@ -43,6 +43,7 @@ class OnnxDetector final : public Detector {
   // Best score first; `timestamp` is not used.
   std::vector<core::Detection> Detect(double timestamp, const cv::Mat& bgr) override;
   std::string Name() const override { return options_.model.filename().string(); }
+  std::filesystem::path Source() const override { return options_.model; }
 
   cv::Size input_size() const { return input_size_; }
   const OutputFormat& output_format() const { return format_; }

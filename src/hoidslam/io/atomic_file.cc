@@ -2,8 +2,12 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cctype>
+#include <cerrno>
+#include <csignal>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <fmt/format.h>
 #include <opencv2/imgcodecs.hpp>
@@ -75,6 +79,26 @@ std::filesystem::path FolderSibling(const std::filesystem::path& path, std::stri
   return path.parent_path() / fmt::format("{}.{}-{}", path.filename().string(), what, ::getpid());
 }
 
+// The staging folders "<path>.partial-<pid>" beside `path` that jobs no longer running left (killed before they could
+// clean up), removed: nothing else writes there. A pid still running, ours included, is left alone.
+std::vector<std::filesystem::path> RemoveStaleStagingFolders(const std::filesystem::path& path) {
+  namespace fs = std::filesystem;
+  std::vector<fs::path> removed;
+  const std::string prefix = path.filename().string() + ".partial-";
+  std::error_code error;
+  for (const fs::directory_entry& entry : fs::directory_iterator(path.parent_path(), error)) {
+    const std::string name = entry.path().filename().string();
+    if (!name.starts_with(prefix)) continue;
+    const std::string digits = name.substr(prefix.size());
+    if (digits.empty() || digits.size() > 9 || !std::all_of(digits.begin(), digits.end(), ::isdigit)) continue;
+    const auto pid = static_cast<pid_t>(std::stol(digits));
+    if (pid == ::getpid() || ::kill(pid, 0) == 0 || errno != ESRCH) continue;
+    std::error_code ignored;
+    if (fs::remove_all(entry.path(), ignored) > 0 && !ignored) removed.push_back(entry.path());
+  }
+  return removed;
+}
+
 // True when `folder` is `path` or one of its ancestors, component by component.
 bool HoldsOrIs(const std::filesystem::path& folder, const std::filesystem::path& path) {
   const auto [folder_end, unused] = std::mismatch(folder.begin(), folder.end(), path.begin(), path.end());
@@ -105,6 +129,7 @@ AtomicFolder::AtomicFolder(const std::filesystem::path& path, bool replace, cons
                                      fmt::format("{} exists and is not empty ({})", path_.string(), replace_hint));
     }
   }
+  stale_removed_ = RemoveStaleStagingFolders(path_);
   fs::remove_all(temporary_, error);  // a leftover of an earlier job that had our pid
   if (!error) fs::create_directories(temporary_, error);
   if (error) throw InputError::InFile(path_, "cannot create the output folder: " + error.message());

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <opencv2/core/mat.hpp>
 
@@ -36,7 +37,8 @@ class AtomicFile {
 // "<path>.partial-<pid>", which Commit() renames to `path`. An existing folder at `path` is replaced only then:
 // it is renamed aside to "<path>.old-<pid>", the new one renamed in, and the old one removed, so `path` holds
 // either the old folder or the new one at every moment. Destroyed without Commit(), the temporary folder is
-// removed and `path` is untouched.
+// removed and `path` is untouched. A staging folder "<path>.partial-<pid>" that a killed job left (its pid no longer
+// running) is removed when the next AtomicFolder for `path` is made: stale_removed() lists them.
 class AtomicFolder {
  public:
   // `path` is taken as io::NormalFolder(path). Throws InputError naming `parameter` when `path` is a file, is the
@@ -50,12 +52,14 @@ class AtomicFolder {
 
   const std::filesystem::path& path() const { return path_; }
   const std::filesystem::path& temporary() const { return temporary_; }  // write here
+  const std::vector<std::filesystem::path>& stale_removed() const { return stale_removed_; }
 
   void Commit();
 
  private:
   std::filesystem::path path_;
   std::filesystem::path temporary_;
+  std::vector<std::filesystem::path> stale_removed_;
   bool committed_ = false;
 };
 

@@ -4,9 +4,13 @@
 #include <iterator>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "hoidslam/core/error.h"
 #include "support/temp_dir.h"
@@ -134,6 +138,27 @@ TEST(AtomicFolder, AbandonedFolderLeavesNothingAndKeepsTheOldOne) {
   }
   EXPECT_EQ(ReadText(dir / "seq" / "old.txt"), "old\n");
   EXPECT_EQ(CountEntries(dir.path()), 1U);
+}
+
+TEST(AtomicFolder, RemovesTheStagingFolderOfAKilledJobAndNoOther) {
+  testing::TempDir dir;
+  // The pid of a process that has ended, as a job killed mid-run leaves it.
+  const pid_t child = ::fork();
+  if (child == 0) ::_exit(0);
+  ASSERT_GT(child, 0);
+  ::waitpid(child, nullptr, 0);
+  const auto stale = dir / fmt::format("run.partial-{}", child);
+  const auto running = dir / "run.partial-1";  // pid 1 runs as long as the machine does
+  const auto other = dir / fmt::format("walk.partial-{}", child);  // another folder's
+  for (const auto& folder : {stale, running, other}) {
+    std::filesystem::create_directories(folder);
+    std::ofstream(folder / "frames.jsonl") << "{}\n";
+  }
+  AtomicFolder folder(dir / "run", false, "--out", "use --force");
+  EXPECT_EQ(folder.stale_removed(), std::vector<std::filesystem::path>{stale});
+  EXPECT_FALSE(std::filesystem::exists(stale));
+  EXPECT_TRUE(std::filesystem::exists(running));
+  EXPECT_TRUE(std::filesystem::exists(other));
 }
 
 TEST(AtomicFolder, RefusesTheWorkingDirectoryAndItsAncestors) {

@@ -161,10 +161,15 @@ DetectionsFile DetectionsFile::Read(const std::filesystem::path& path) {
 }
 
 const FrameDetections* DetectionsFile::Find(double timestamp) const {
-  const auto it = std::lower_bound(
-      frames_.begin(), frames_.end(), timestamp - kTimestampMatchTolerance,
-      [](const FrameDetections& frame, double t) { return frame.timestamp < t; });
-  if (it == frames_.end() || std::abs(it->timestamp - timestamp) >= kTimestampMatchTolerance) return nullptr;
+  auto it = std::lower_bound(frames_.begin(), frames_.end(), timestamp - kTimestampMatchTolerance,
+                             [](const FrameDetections& frame, double t) { return frame.timestamp < t; });
+  if (it == frames_.end()) return nullptr;
+  // Frames are at least the tolerance apart, so at most two lie within it: the nearer.
+  if (const auto next = std::next(it);
+      next != frames_.end() && std::abs(next->timestamp - timestamp) < std::abs(it->timestamp - timestamp)) {
+    it = next;
+  }
+  if (std::abs(it->timestamp - timestamp) >= kTimestampMatchTolerance) return nullptr;
   return &*it;
 }
 

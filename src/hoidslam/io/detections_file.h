@@ -30,8 +30,10 @@ struct DetectionsFileHeader {
   int image_height = 0;
 };
 
-// Two timestamps name the same frame when they differ by less than this (TUM writes microseconds).
-inline constexpr double kTimestampMatchTolerance = 1e-4;
+// Two timestamps name the same frame when they differ by less than this: a millisecond, so that a file whose
+// timestamps were rounded to the millisecond (as many tools write them) still finds every frame, and no camera
+// takes two frames that near.
+inline constexpr double kTimestampMatchTolerance = 1e-3;
 
 class DetectionsFile {
  public:

@@ -1,6 +1,7 @@
 #include "hoidslam/io/files.h"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <fstream>
 #include <iterator>
@@ -8,6 +9,7 @@
 
 #include <fmt/format.h>
 #include <opencv2/imgcodecs.hpp>
+#include <openssl/sha.h>
 
 #include "hoidslam/core/error.h"
 
@@ -64,6 +66,15 @@ std::vector<std::uint8_t> ReadBinaryFile(const fs::path& path, std::string_view 
   std::vector<std::uint8_t> bytes{std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
   if (!file.good() && !file.eof()) throw InputError::InFile(path, fmt::format("cannot read the {}", what));
   return bytes;
+}
+
+std::string FileSha256(const fs::path& path, std::string_view what) {
+  const std::vector<std::uint8_t> bytes = ReadBinaryFile(path, what);
+  std::array<unsigned char, SHA256_DIGEST_LENGTH> digest{};
+  SHA256(bytes.data(), bytes.size(), digest.data());
+  std::string hex;
+  for (const unsigned char byte : digest) hex += fmt::format("{:02x}", byte);
+  return hex;
 }
 
 }  // namespace hoidslam::io

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -29,5 +30,9 @@ cv::Mat ReadImage(const std::filesystem::path& path, int flags, std::string_view
 // ("<what> does not exist or is not a file") or cannot be read ("cannot read the <what>"); `what` says which file
 // it is ("map file", "vocabulary file").
 std::vector<std::uint8_t> ReadBinaryFile(const std::filesystem::path& path, std::string_view what);
+
+// The SHA-256 of the file's bytes in lower-case hex, as `sha256sum` prints it: a model's identity in summary.json.
+// Throws InputError naming the file as ReadBinaryFile does.
+std::string FileSha256(const std::filesystem::path& path, std::string_view what);
 
 }  // namespace hoidslam::io

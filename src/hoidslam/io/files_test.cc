@@ -39,6 +39,16 @@ TEST(ReadBinaryFile, ReadsEveryByte) {
   EXPECT_TRUE(ReadBinaryFile(dir / "empty.bin", "map file").empty());
 }
 
+TEST(FileSha256, IsWhatSha256sumPrints) {
+  testing::TempDir dir;
+  std::ofstream(dir / "abc.txt", std::ios::binary) << "abc";
+  { std::ofstream empty(dir / "empty.bin", std::ios::binary); }
+  // The test vectors of FIPS 180-2.
+  EXPECT_EQ(FileSha256(dir / "abc.txt", "model"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  EXPECT_EQ(FileSha256(dir / "empty.bin", "model"), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+  EXPECT_THROW(FileSha256(dir / "absent.onnx", "model"), core::InputError);
+}
+
 TEST(ReadBinaryFile, AMissingFileOrAFolderIsAnErrorNamingIt) {
   testing::TempDir dir;
   const std::filesystem::path missing = dir / "absent.hmap";

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
@@ -10,12 +11,15 @@
 #include <string>
 #include <string_view>
 #include <system_error>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "hoidslam/core/error.h"
+#include "hoidslam/io/files.h"
 #include "hoidslam/io/settings_yaml.h"
 
 namespace hoidslam::io {
@@ -225,11 +229,66 @@ Spelling FileSpelling(const yaml::Value& root) {
   return spelling;
 }
 
+// Every key of a settings file but the camera model, the four required intrinsics and the baseline (whose
+// spellings differ in more than the name), with its field, in the order of a settings file: reading a file and
+// writing what a run used go through this one list. `SettingsT` is Settings or const Settings.
+template <typename SettingsT, typename Visit>
+void ForEachOptionalKey(SettingsT& settings, Spelling spelling, Visit visit) {
+  const auto spelled = [&](const Key& key, auto& field) { visit(key.Name(spelling), field); };
+  auto& camera = settings.camera;
+  spelled(kK1, camera.k1);
+  spelled(kK2, camera.k2);
+  spelled(kP1, camera.p1);
+  spelled(kP2, camera.p2);
+  spelled(kK3, camera.k3);
+  visit("Camera.width", camera.width);
+  visit("Camera.height", camera.height);
+  visit("Camera.fps", settings.fps);
+  visit("Camera.RGB", settings.rgb_order);
+  spelled(kDepthMapFactor, settings.depth_map_factor);
+  spelled(kThDepth, settings.th_depth);
+  visit("Depth.noiseFactor", settings.depth_noise.factor);
+  visit("Depth.checkUnits", settings.check_depth_units);
+
+  auto& orb = settings.orb;
+  visit("ORBextractor.nFeatures", orb.n_features);
+  visit("ORBextractor.scaleFactor", orb.scale_factor);
+  visit("ORBextractor.nLevels", orb.n_levels);
+  visit("ORBextractor.iniThFAST", orb.ini_th_fast);
+  visit("ORBextractor.minThFAST", orb.min_th_fast);
+  visit("ORBextractor.dimMean", orb.dim_mean);
+  visit("ORBextractor.maxGain", orb.max_gain);
+
+  auto& hoid = settings.hoid;
+  visit("HOID.mode", hoid.mode);
+  visit("HOID.minInteractionArea", hoid.min_interaction_area);
+  visit("HOID.depthThreshold", hoid.depth_threshold);
+  visit("HOID.sampleBoxSize", hoid.sample_box_size);
+  visit("HOID.personClass", hoid.person_class);
+  visit("HOID.dynamicClasses", hoid.dynamic_classes);
+  auto& plus = hoid.plus;
+  visit("HOIDplus.depthRefinement", plus.depth);
+  visit("HOIDplus.depthBin", plus.depth_bin);
+  visit("HOIDplus.valley", plus.valley);
+  visit("HOIDplus.depthExtent", plus.depth_extent);
+  visit("HOIDplus.foregroundShare", plus.foreground_share);
+  visit("HOIDplus.edgeMargin", plus.edge_margin);
+  visit("HOIDplus.boxMargin", plus.box_margin);
+  visit("HOIDplus.memory", plus.memory);
+  visit("HOIDplus.associationIoU", plus.association_iou);
+  visit("HOIDplus.relabelIoU", plus.relabel_iou);
+  visit("HOIDplus.maxMissedSeconds", plus.max_missed_seconds);
+  visit("HOIDplus.stillSeconds", plus.still_seconds);
+  visit("HOIDplus.stillDistance", plus.still_distance);
+  visit("HOIDplus.safetyNet", plus.safety_net);
+  visit("HOIDplus.sizeCheck", plus.size_check);
+  visit("HOIDplus.movingPointOutliers", plus.moving_point_outliers);
+}
+
 Settings ReadSettings(const yaml::Value& root) {
   CheckHoidKeyNames(root);
   const Spelling spelling = FileSpelling(root);
   const auto read = [&](const std::string& name, auto& field) { Read(root.Find(name), name, field); };
-  const auto read_spelled = [&](const Key& key, auto& field) { read(key.Name(spelling), field); };
 
   if (const yaml::Value* type = root.Find("Camera.type");
       type != nullptr && !(type->kind == yaml::Value::Kind::kText && type->text == "PinHole")) {
@@ -244,65 +303,19 @@ Settings ReadSettings(const yaml::Value& root) {
 
   Settings settings;
   core::CameraIntrinsics& camera = settings.camera;
-  read_spelled(kFx, camera.fx);
-  read_spelled(kFy, camera.fy);
-  read_spelled(kCx, camera.cx);
-  read_spelled(kCy, camera.cy);
-  read_spelled(kK1, camera.k1);
-  read_spelled(kK2, camera.k2);
-  read_spelled(kP1, camera.p1);
-  read_spelled(kP2, camera.p2);
-  read_spelled(kK3, camera.k3);
-  read("Camera.width", camera.width);
-  read("Camera.height", camera.height);
-  read("Camera.fps", settings.fps);
-  read("Camera.RGB", settings.rgb_order);
-  read_spelled(kDepthMapFactor, settings.depth_map_factor);
-  read_spelled(kThDepth, settings.th_depth);
+  read(kFx.Name(spelling), camera.fx);
+  read(kFy.Name(spelling), camera.fy);
+  read(kCx.Name(spelling), camera.cx);
+  read(kCy.Name(spelling), camera.cy);
+  ForEachOptionalKey(settings, spelling, read);
   if (spelling == Spelling::kOriginal) {
-    read_spelled(kBf, settings.bf);
+    read(kBf.Name(spelling), settings.bf);
   } else if (const std::string name = kBf.Name(spelling); root.Find(name) != nullptr) {
     double baseline = 0.0;
     read(name, baseline);
     RequirePositive(name, baseline);
     settings.bf = baseline * camera.fx;
   }
-  read("Depth.noiseFactor", settings.depth_noise.factor);
-
-  core::OrbOptions& orb = settings.orb;
-  read("ORBextractor.nFeatures", orb.n_features);
-  read("ORBextractor.scaleFactor", orb.scale_factor);
-  read("ORBextractor.nLevels", orb.n_levels);
-  read("ORBextractor.iniThFAST", orb.ini_th_fast);
-  read("ORBextractor.minThFAST", orb.min_th_fast);
-  read("ORBextractor.dimMean", orb.dim_mean);
-  read("ORBextractor.maxGain", orb.max_gain);
-
-  core::HoidOptions& hoid = settings.hoid;
-  read("HOID.mode", hoid.mode);
-  read("HOID.minInteractionArea", hoid.min_interaction_area);
-  read("HOID.depthThreshold", hoid.depth_threshold);
-  read("HOID.sampleBoxSize", hoid.sample_box_size);
-  read("HOID.personClass", hoid.person_class);
-  read("HOID.dynamicClasses", hoid.dynamic_classes);
-  core::HoidPlusOptions& plus = hoid.plus;
-  read("HOIDplus.depthRefinement", plus.depth);
-  read("HOIDplus.depthBin", plus.depth_bin);
-  read("HOIDplus.valley", plus.valley);
-  read("HOIDplus.depthExtent", plus.depth_extent);
-  read("HOIDplus.foregroundShare", plus.foreground_share);
-  read("HOIDplus.edgeMargin", plus.edge_margin);
-  read("HOIDplus.boxMargin", plus.box_margin);
-  read("HOIDplus.memory", plus.memory);
-  read("HOIDplus.associationIoU", plus.association_iou);
-  read("HOIDplus.relabelIoU", plus.relabel_iou);
-  read("HOIDplus.maxMissedSeconds", plus.max_missed_seconds);
-  read("HOIDplus.stillSeconds", plus.still_seconds);
-  read("HOIDplus.stillDistance", plus.still_distance);
-  read("HOIDplus.safetyNet", plus.safety_net);
-  read("HOIDplus.sizeCheck", plus.size_check);
-  read("HOIDplus.movingPointOutliers", plus.moving_point_outliers);
-
   CheckSettings(settings, spelling);
   return settings;
 }
@@ -310,6 +323,72 @@ Settings ReadSettings(const yaml::Value& root) {
 }  // namespace
 
 void Settings::Check() const { CheckSettings(*this, Spelling::kOriginal); }
+
+nlohmann::ordered_json SettingsToJson(const Settings& settings) {
+  nlohmann::ordered_json json;
+  const core::CameraIntrinsics& camera = settings.camera;
+  for (const auto& [key, value] : {std::pair{kFx, camera.fx}, std::pair{kFy, camera.fy}, std::pair{kCx, camera.cx},
+                                   std::pair{kCy, camera.cy}, std::pair{kBf, settings.bf}}) {
+    json[key.Name(Spelling::kOriginal)] = value;
+  }
+  ForEachOptionalKey(settings, Spelling::kOriginal, [&json](const std::string& name, const auto& field) {
+    if constexpr (std::is_same_v<std::decay_t<decltype(field)>, core::FilterMode>) {
+      json[name] = core::ToString(field);
+    } else {
+      json[name] = field;
+    }
+  });
+  return json;
+}
+
+fs::path ShippedSettingsForFolder(const fs::path& folder, const fs::path& config_dir) {
+  std::string name = NormalFolder(folder).filename().string();
+  std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return std::tolower(c); });
+  // TUM names its downloads rgbd_dataset_freiburg1_rpy; the shared recordings and many users shorten it to fr1_rpy.
+  for (const auto& [key, file] : {std::pair{"freiburg1", "TUM1.yaml"}, std::pair{"freiburg2", "TUM2.yaml"},
+                                  std::pair{"freiburg3", "TUM3.yaml"}, std::pair{"fr1_", "TUM1.yaml"},
+                                  std::pair{"fr2_", "TUM2.yaml"}, std::pair{"fr3_", "TUM3.yaml"},
+                                  std::pair{"bonn", "Bonn.yaml"}}) {
+    if (name.find(key) != std::string::npos && fs::exists(config_dir / file)) return config_dir / file;
+  }
+  return {};
+}
+
+std::string SettingsChoice::Describe() const {
+  switch (reason) {
+    case Reason::kGiven: return file.string();
+    case Reason::kFolderName:
+      return fmt::format("{} (by the sequence folder's name, {}; --settings to choose another)", file.string(),
+                         folder_name);
+    case Reason::kDefault: break;
+  }
+  return "the defaults: the TUM fr3 camera, 640x480, depth 5000 units a metre (--settings to give your camera's)";
+}
+
+std::string_view ToString(SettingsChoice::Reason reason) {
+  switch (reason) {
+    case SettingsChoice::Reason::kGiven: return "given";
+    case SettingsChoice::Reason::kFolderName: return "folder_name";
+    case SettingsChoice::Reason::kDefault: break;
+  }
+  return "default";
+}
+
+SettingsChoice ChooseSettings(const fs::path& given, const fs::path& sequence_folder, const fs::path& config_dir) {
+  SettingsChoice choice;
+  if (!given.empty()) {
+    choice.file = given;
+    choice.reason = SettingsChoice::Reason::kGiven;
+  } else if (!sequence_folder.empty()) {
+    choice.file = ShippedSettingsForFolder(sequence_folder, config_dir);
+    if (!choice.file.empty()) {
+      choice.reason = SettingsChoice::Reason::kFolderName;
+      choice.folder_name = NormalFolder(sequence_folder).filename().string();
+    }
+  }
+  if (!choice.file.empty()) choice.settings = LoadSettings(choice.file);
+  return choice;
+}
 
 Settings LoadSettings(const std::filesystem::path& path) {
   if (!fs::is_regular_file(path)) throw InputError::InFile(path, "settings file does not exist");

@@ -7,6 +7,10 @@
 // docs/settings.md lists every key with its default and range.
 
 #include <filesystem>
+#include <string>
+#include <string_view>
+
+#include <nlohmann/json.hpp>
 
 #include "hoidslam/core/camera.h"
 #include "hoidslam/core/options.h"
@@ -22,6 +26,9 @@ struct Settings {
   double th_depth = 40.0;            // ThDepth: the close/far depth threshold, in baselines, > 0
   double bf = 40.0;                  // Camera.bf: baseline (metres) times fx (pixels), > 0
   core::DepthNoiseModel depth_noise;  // Depth.noiseFactor: its factor, > 0 (the final map adjustment's depth weight)
+  // Depth.checkUnits: stop when the first frame's depth is spread as no room is (pipeline/depth_units.h): most
+  // likely read with the wrong DepthMapFactor. 0 for a scene that really lies within a metre.
+  bool check_depth_units = true;
   // Camera.RGB: the images' colour order as ORB-SLAM3 states it (1: RGB, 0: BGR). hoidslam reads images with
   // OpenCV, which always yields BGR, so the key is kept for compatibility and changes nothing.
   bool rgb_order = true;
@@ -41,5 +48,34 @@ struct Settings {
 // error, a repeated key), and the parameter for a value of the wrong type or out of range:
 // "config/TUM3.yaml: parameter Camera.fx: must be > 0, got -1".
 Settings LoadSettings(const std::filesystem::path& path);
+
+// Every value of `settings` under its key, in the original spelling and in a settings file's order (Camera.fx ...
+// HOIDplus.movingPointOutliers): what summary.json records of the settings a run used.
+nlohmann::ordered_json SettingsToJson(const Settings& settings);
+
+// The shipped settings file in `config_dir` that a TUM or Bonn sequence folder's name calls for: TUM1.yaml, TUM2 or
+// TUM3 for freiburg1/2/3 (or the short fr1_, fr2_, fr3_), Bonn.yaml for bonn; empty for any other name.
+std::filesystem::path ShippedSettingsForFolder(const std::filesystem::path& folder,
+                                               const std::filesystem::path& config_dir);
+
+// Which settings a run over a sequence uses, and why. One rule for `run`, `bench` and the API: the file given,
+// else the shipped file the sequence folder's name calls for, else the defaults (the TUM fr3 camera).
+struct SettingsChoice {
+  enum class Reason { kGiven, kFolderName, kDefault };
+
+  Settings settings;
+  std::filesystem::path file;  // empty: the defaults
+  Reason reason = Reason::kDefault;
+  std::string folder_name;  // with kFolderName: the name that chose the file
+
+  // For a user: "config/TUM1.yaml (by the sequence folder's name, rgbd_dataset_freiburg1_xyz; --settings to
+  // choose another)".
+  std::string Describe() const;
+};
+std::string_view ToString(SettingsChoice::Reason reason);  // given, folder_name, default
+
+// Throws InputError naming the file when the chosen file cannot be read.
+SettingsChoice ChooseSettings(const std::filesystem::path& given, const std::filesystem::path& sequence_folder,
+                              const std::filesystem::path& config_dir);
 
 }  // namespace hoidslam::io

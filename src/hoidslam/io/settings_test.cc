@@ -6,6 +6,7 @@
 #include <utility>
 #include <vector>
 
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -57,10 +58,17 @@ class SettingsFile : public ::testing::Test {
 };
 
 TEST_F(SettingsFile, EveryShippedConfigLoadsAndPassesCheck) {
+  std::size_t files = 0;
+  for (const fs::directory_entry& entry : fs::directory_iterator(HOIDSLAM_CONFIG_DIR)) {
+    if (entry.path().extension() != ".yaml") continue;
+    SCOPED_TRACE(entry.path().string());
+    EXPECT_NO_THROW(LoadSettings(entry.path()).Check());
+    ++files;
+  }
+  EXPECT_GE(files, 4U);
   for (const char* name : {"TUM1.yaml", "TUM2.yaml", "TUM3.yaml", "Bonn.yaml"}) {
     SCOPED_TRACE(name);
     const Settings settings = LoadSettings(fs::path(HOIDSLAM_CONFIG_DIR) / name);
-    EXPECT_NO_THROW(settings.Check());
     EXPECT_EQ(settings.camera.width, 640);
     EXPECT_EQ(settings.camera.height, 480);
     EXPECT_DOUBLE_EQ(settings.fps, 30.0);
@@ -359,6 +367,60 @@ TEST_F(SettingsFile, NamesTheLineOfAYamlSyntaxError) {
   const fs::path path = Write("%YAML:1.0\nCamera.fx: 535.4\nHOID.dynamicClasses: [person, cup\n");
   EXPECT_THAT([&] { LoadSettings(path); },
               ThrowsMessage<InputError>(AllOf(HasSubstr(path.string() + ":3:"), HasSubstr("YAML syntax error"))));
+}
+
+TEST_F(SettingsFile, WrittenAsJsonEveryValueReadsBackTheSame) {
+  const Settings original = LoadSettings(fs::path(HOIDSLAM_CONFIG_DIR) / "TUM1.yaml");
+  const nlohmann::ordered_json json = SettingsToJson(original);
+  EXPECT_EQ(json.begin().key(), "Camera.fx");
+  EXPECT_EQ(json["HOID.mode"], "hoidplus");
+  // The keys and values as a settings file of their own: the same settings again.
+  std::string yaml = "%YAML:1.0\n";
+  for (const auto& [key, value] : json.items()) {
+    if (value.is_boolean()) {
+      yaml += fmt::format("{}: {}\n", key, value.get<bool>() ? 1 : 0);
+    } else if (value.is_array()) {
+      yaml += key + ":\n";
+      for (const auto& item : value) yaml += fmt::format("  - \"{}\"\n", item.get<std::string>());
+    } else {
+      yaml += fmt::format("{}: {}\n", key, value.dump());
+    }
+  }
+  const Settings again = LoadSettings(Write(yaml));
+  EXPECT_EQ(SettingsToJson(again), json);
+  EXPECT_EQ(again.camera, original.camera);
+}
+
+TEST(ShippedSettingsForFolder, PicksTheCameraByTumsLongAndShortNames) {
+  const testing::TempDir config;
+  for (const char* file : {"TUM1.yaml", "TUM2.yaml", "TUM3.yaml", "Bonn.yaml"}) std::ofstream(config / file) << "";
+  EXPECT_EQ(ShippedSettingsForFolder("/data/rgbd_dataset_freiburg1_rpy", config.path()), config / "TUM1.yaml");
+  EXPECT_EQ(ShippedSettingsForFolder("/data/fr1_rpy", config.path()), config / "TUM1.yaml");
+  EXPECT_EQ(ShippedSettingsForFolder("/data/fr2_desk/", config.path()), config / "TUM2.yaml");
+  EXPECT_EQ(ShippedSettingsForFolder("/data/FR3_walking_xyz", config.path()), config / "TUM3.yaml");
+  EXPECT_EQ(ShippedSettingsForFolder("/data/rgbd_bonn_crowd", config.path()), config / "Bonn.yaml");
+  EXPECT_EQ(ShippedSettingsForFolder("/data/my_office", config.path()), fs::path());
+}
+
+TEST(ChooseSettings, TheFileGivenThenTheFolderNameThenTheDefaults) {
+  const fs::path config = HOIDSLAM_CONFIG_DIR;
+  const SettingsChoice given = ChooseSettings(config / "TUM3.yaml", "/data/rgbd_dataset_freiburg1_xyz", config);
+  EXPECT_EQ(given.reason, SettingsChoice::Reason::kGiven);
+  EXPECT_EQ(given.file, config / "TUM3.yaml");
+  EXPECT_DOUBLE_EQ(given.settings.camera.fx, 535.4);
+
+  const SettingsChoice by_name = ChooseSettings({}, "/data/rgbd_dataset_freiburg1_xyz/", config);
+  EXPECT_EQ(by_name.reason, SettingsChoice::Reason::kFolderName);
+  EXPECT_EQ(by_name.file, config / "TUM1.yaml");
+  EXPECT_DOUBLE_EQ(by_name.settings.camera.fx, 517.306408);
+  EXPECT_THAT(by_name.Describe(), HasSubstr("TUM1.yaml (by the sequence folder's name, rgbd_dataset_freiburg1_xyz"));
+
+  const SettingsChoice fallback = ChooseSettings({}, "/data/my_office", config);
+  EXPECT_EQ(fallback.reason, SettingsChoice::Reason::kDefault);
+  EXPECT_TRUE(fallback.file.empty());
+  EXPECT_EQ(fallback.settings.camera, core::CameraIntrinsics{});
+  EXPECT_THAT(fallback.Describe(), HasSubstr("the defaults: the TUM fr3 camera"));
+  EXPECT_EQ(ToString(SettingsChoice::Reason::kFolderName), "folder_name");
 }
 
 TEST(Settings, CheckNamesTheParameterOfAnOutOfRangeValue) {

@@ -83,6 +83,8 @@ RunOptions RunOptions::FromSettings(const io::Settings& settings) {
   options.system.final_adjustment.depth_noise = settings.depth_noise;
   options.system.orb = settings.orb;
   options.exclusion.hoid = settings.hoid;
+  options.depth_factor = settings.depth_map_factor;
+  options.check_depth_units = settings.check_depth_units;
   return options;
 }
 
@@ -100,6 +102,15 @@ std::optional<std::string> DetectOrKeepPrevious(detect::Detector& detector, cons
   }
 }
 
+void CheckImageSize(const core::RgbdFrame& frame, const RunOptions& options) {
+  const core::CameraIntrinsics& camera = options.system.camera;
+  if (frame.rgb.cols == camera.width && frame.rgb.rows == camera.height) return;
+  throw core::InputError::InFile(
+      frame.rgb_path, fmt::format("the image is {}x{}, but the camera settings say {}x{} (Camera.width, Camera.height "
+                                  "of {}): give this camera's settings with --settings",
+                                  frame.rgb.cols, frame.rgb.rows, camera.width, camera.height, options.settings_source));
+}
+
 RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detector, const RunOptions& options,
                        const std::filesystem::path& folder, const std::function<bool()>& stop_requested) {
   Session session(options, &detector, sequence.root());
@@ -107,6 +118,7 @@ RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detec
   spdlog::info("{}: {} frames, filter {}, detector {}{}{}{}", sequence.name(), sequence.size(),
                options.exclusion.ModeName(), detector.Name(), realtime.enabled ? ", real time" : "",
                realtime.pace ? ", paced" : "", options.system.deterministic ? ", deterministic" : "");
+  spdlog::info("settings: {}", options.settings_source);
   io::AtomicFile log(folder / "frames.jsonl");
   if (options.snapshots > 0) std::filesystem::create_directories(folder / "snapshots");
 
@@ -132,6 +144,7 @@ RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detec
 
     const core::Stopwatch clock;
     const core::RgbdFrame frame = paced ? paced->Take(index) : sequence.LoadFrame(index);
+    CheckImageSize(frame, options);
     const FrameOutcome& outcome = session.Track(index, frame, nullptr, clock.ElapsedMilliseconds(), dropped_before);
     if (IsSnapshot(index, total, options.snapshots)) {
       WriteSnapshot(folder / "snapshots" / fmt::format("{:06d}.jpg", index), frame, outcome.boxes,

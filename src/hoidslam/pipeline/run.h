@@ -77,6 +77,13 @@ struct RunOptions {
   std::size_t snapshots = 6;   // annotated frames written, evenly spread over the run
   // Where the final map is written as a map file (slam/map_file.h); empty: nowhere.
   std::filesystem::path save_map;
+  // The depth images' units a metre (DepthMapFactor) and whether the first frame's depth is checked against a
+  // room's (Depth.checkUnits, pipeline/depth_units.h).
+  double depth_factor = 5000.0;
+  bool check_depth_units = true;
+  // Where the settings came from and why (io::SettingsChoice::Describe), said when the run starts and in the
+  // message about an image of another size.
+  std::string settings_source = "the default settings";
 
   // The camera, depth, ORB and HOID settings of a settings file; the rest at their defaults.
   static RunOptions FromSettings(const io::Settings& settings);
@@ -84,6 +91,10 @@ struct RunOptions {
   // deterministic one (whose point, the same output on every run, the real-time mode gives up).
   void Check() const;
 };
+
+// Throws InputError naming the colour image of `frame` when it is not of the camera's size (the settings are
+// another camera's), and the settings it came from (RunOptions::settings_source). RunSequence checks every frame.
+void CheckImageSize(const core::RgbdFrame& frame, const RunOptions& options);
 
 // Milliseconds per stage of one frame. `load` is reading and decoding the images (near 0 in a paced replay, which
 // decodes ahead). `detect` is what tracking spent on the detections: waiting for the detector

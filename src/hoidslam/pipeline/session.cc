@@ -15,6 +15,7 @@
 #include "hoidslam/io/ply_file.h"
 #include "hoidslam/io/trajectory_file.h"
 #include "hoidslam/hoid/late_detections.h"
+#include "hoidslam/pipeline/depth_units.h"
 #include "hoidslam/pipeline/detector_thread.h"
 
 namespace hoidslam::pipeline {
@@ -195,6 +196,14 @@ const FrameOutcome& Session::Track(std::size_t index, const core::RgbdFrame& fra
         "detections", fmt::format("mode {} needs the frame's detections: give them, or a detector model (or use "
                                   "filter none)",
                                   options_.exclusion.ModeName()));
+  }
+  if (!depth_judged_ && options_.check_depth_units) {
+    if (const std::optional<DepthSpread> spread = MeasureDepth(frame.depth)) {
+      depth_judged_ = true;
+      if (std::string problem = DepthUnitsProblem(*spread, options_.depth_factor); !problem.empty()) {
+        throw core::InputError::ForParameter("depth", problem);
+      }
+    }
   }
   FrameOutcome& out = outcome_;
   out.times = StageTimes{};

@@ -79,6 +79,7 @@ class Session {
   FrameOutcome outcome_;
   std::vector<double> tracked_stamps_;  // of every frame handed to tracking, by its id there (slam::Frame::id)
   bool finished_ = false;
+  bool depth_judged_ = false;  // the depth's unit, on the first frame with enough of it (depth_units.h)
 };
 
 }  // namespace hoidslam::pipeline

@@ -642,8 +642,11 @@ std::string RenderRunHtml(const RunReport& report) {
   return Page(fmt::format("{} · {} · hoidslam", report.sequence, report.filter), body);
 }
 
-void WriteRunReport(const fs::path& run_folder, const fs::path& groundtruth, const fs::path& out_html) {
-  const std::string html = RenderRunHtml(LoadRunReport(run_folder, groundtruth));
+void WriteRunReport(const fs::path& run_folder, const fs::path& groundtruth, const fs::path& out_html,
+                    const fs::path& shown_folder) {
+  RunReport report = LoadRunReport(run_folder, groundtruth);
+  if (!shown_folder.empty()) report.folder = shown_folder;
+  const std::string html = RenderRunHtml(report);
   io::AtomicFile file(out_html);
   file.stream() << html;
   file.Commit();

@@ -131,9 +131,10 @@ std::filesystem::path RecordedGroundTruth(const std::filesystem::path& run_folde
 // The whole page.
 std::string RenderRunHtml(const RunReport& report);
 
-// LoadRunReport, RenderRunHtml, and the page written to `out_html` complete or not at all.
+// LoadRunReport, RenderRunHtml, and the page written to `out_html` complete or not at all. `shown_folder`: the
+// folder the page names, when it is read from a staging folder that will be renamed to it (empty: `run_folder`).
 void WriteRunReport(const std::filesystem::path& run_folder, const std::filesystem::path& groundtruth,
-                    const std::filesystem::path& out_html);
+                    const std::filesystem::path& out_html, const std::filesystem::path& shown_folder = {});
 
 // ---- Building blocks of the bench report ---------------------------------------------------------------------
 
