@@ -352,13 +352,15 @@ camera: a Camera from the SDK's values; replaces the settings' camera, depth fac
 filter: none, person, classes, hoid2d, hoid3d, hoidplus[:parts]; "": the settings' HOID.mode, else hoidplus.
 detector: "given" (pass each frame's detections to track), "onnx" (model runs inside), "none".
 realtime: the detector in its own thread; deterministic: byte-identical results on every run.
+load_map: a map file (save_map, hoidslam run --save-map) to start from; localization: track against it unchanged.
 Threads may share it: track calls run one at a time (a frame not newer than the last one tracked raises an
 InputError naming timestamp), and trajectory(), keyframes() and map_points() read between two frames.)")
       .def(py::init([](const std::optional<std::filesystem::path>& settings, const std::optional<Camera>& camera,
                        const std::string& filter,
                        const std::string& detector, const std::optional<std::filesystem::path>& model, bool realtime,
                        bool deterministic, const std::string& keypoint_budget,
-                       const std::optional<std::filesystem::path>& vocabulary) {
+                       const std::optional<std::filesystem::path>& vocabulary,
+                       const std::optional<std::filesystem::path>& load_map, bool localization) {
              Options options;
              options.settings = settings.value_or("");
              options.camera = camera;
@@ -369,12 +371,15 @@ InputError naming timestamp), and trajectory(), keyframes() and map_points() rea
              options.deterministic = deterministic;
              options.keypoint_budget = keypoint_budget;
              options.vocabulary = vocabulary.value_or("");
+             options.load_map = load_map.value_or("");
+             options.localization = localization;
              py::gil_scoped_release release;  // loading the vocabulary and the model takes a moment
              return System(options);
            }),
            py::kw_only(), py::arg("settings") = py::none(), py::arg("camera") = py::none(), py::arg("filter") = "", py::arg("detector") = "given",
            py::arg("model") = py::none(), py::arg("realtime") = false, py::arg("deterministic") = false,
-           py::arg("keypoint_budget") = "static", py::arg("vocabulary") = py::none())
+           py::arg("keypoint_budget") = "static", py::arg("vocabulary") = py::none(), py::arg("load_map") = py::none(),
+           py::arg("localization") = false)
       .def(
           "track",
           [](System& system, const py::object& rgb, const py::object& depth, const py::object& timestamp,
@@ -427,7 +432,13 @@ Arrays are read in place when their rows hold packed pixels; the GIL is released
           },
           "(positions N x 3 metres, colours N x 3 uint8 RGB, observations N) of the map points.")
       .def("save", &System::Save, py::arg("folder"), py::call_guard<py::gil_scoped_release>(),
-           "Finishes, then writes trajectory.txt, keyframes.txt and map.ply into folder (as hoidslam run does).")
+           "Finishes, then writes what hoidslam run writes into folder: trajectory.txt, keyframes.txt, map.ply, "
+           "frames.jsonl, summary.json and report.html (hoidslam report and bench read it).")
+      .def("save_map", &System::SaveMap, py::arg("path"), py::call_guard<py::gil_scoped_release>(),
+           "Finishes, then writes the map to a map file that System(load_map=...) and hoidslam run --load-map start "
+           "from.")
+      .def("reset", &System::Reset, py::call_guard<py::gil_scoped_release>(),
+           "Back to no frames, as a new System with the same options; the next frame may have any timestamp.")
       .def_property_readonly("width", &System::width)
       .def_property_readonly("height", &System::height)
       .def_property_readonly("depth_factor", &System::depth_factor, "uint16 depth units per metre")

@@ -1,10 +1,8 @@
 // `hoidslam run`: RGB-D SLAM over a sequence with the features of people and of the objects they handle
 // dropped before tracking. Writes the trajectory, the keyframes, the sparse map and a per-frame log, and, when
 // the sequence has ground truth, prints its ATE and RPE (docs/slam.md).
-#include <cstdint>
 #include <cstdio>
 #include <filesystem>
-#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -19,20 +17,18 @@
 #include "commands.h"
 #include "detector_options.h"
 #include "sequence_options.h"
-#include "hoidslam/bow/vocabulary_file.h"
 #include "hoidslam/core/error.h"
 #include "hoidslam/core/interrupt.h"
 #include "hoidslam/core/shipped_dir.h"
 #include "hoidslam/eval/evaluation.h"
 #include "hoidslam/eval/loop_recall.h"
 #include "hoidslam/eval/pose_check.h"
-#include "hoidslam/eval/statistics.h"
 #include "hoidslam/io/atomic_file.h"
-#include "hoidslam/io/files.h"
 #include "hoidslam/io/settings.h"
 #include "hoidslam/io/trajectory_file.h"
 #include "hoidslam/pipeline/depth_units.h"
 #include "hoidslam/pipeline/run.h"
+#include "hoidslam/pipeline/summary_json.h"
 #include "hoidslam/report/html_report.h"
 #include "hoidslam/slam/system.h"
 #include "hoidslam/version.h"
@@ -69,149 +65,6 @@ struct RunArgs {
   double detector_latency_ms = 0.0;
   bool force = false;
 };
-
-// The median over the frames of one stage's time (or of a function of the stage times), in ms.
-double MedianMs(const std::vector<pipeline::StageTimes>& times, const std::function<double(const pipeline::StageTimes&)>& of) {
-  std::vector<double> values;
-  values.reserve(times.size());
-  for (const auto& t : times) values.push_back(of(t));
-  return values.empty() ? 0.0 : eval::ComputeStatistics(values).median;
-}
-
-// Against the ground-truth moving masks: null when the sequence has none; the count on still people is null
-// when it has no people masks.
-nlohmann::json ExclusionQualityJson(const pipeline::RunSummary& s) {
-  if (!s.exclusion) return nullptr;
-  const pipeline::ExclusionCounts& counts = *s.exclusion;
-  nlohmann::json on_still_people = nullptr;
-  if (s.still_people_scored) on_still_people = counts.static_dropped_on_still_people;
-  return {{"leaked", counts.Leaked()},
-          {"wasted", counts.Wasted()},
-          {"moving_kept", counts.moving_kept},
-          {"moving_dropped", counts.moving_dropped},
-          {"static_kept", counts.static_kept},
-          {"static_dropped", counts.static_dropped},
-          {"static_dropped_without_depth", counts.static_dropped_without_depth},
-          {"static_dropped_on_still_people", on_still_people}};
-}
-
-double Median(std::vector<double> values) {
-  return values.empty() ? 0.0 : eval::ComputeStatistics(values).median;
-}
-
-// How the detector kept pace: null when the run had no detector.
-nlohmann::json DetectionsJson(const pipeline::RunSummary& s) {
-  if (s.detector_ms.empty()) return nullptr;
-  const std::vector<double> frames(s.detection_age_frames.begin(), s.detection_age_frames.end());
-  return {{"median_age_frames", Median(frames)},
-          {"median_age_ms", Median(s.detection_age_ms)},
-          {"median_detector_ms", Median(s.detector_ms)},
-          {"boxes_carried_by_keypoints", s.boxes_carried_by_keypoints},
-          {"boxes_grown", s.boxes_grown}};
-}
-
-// The loops closed (or maps merged): the frames at their two ends, the verification's inliers, and how far the
-// correction moved the keyframe that closed it (a merge: the map moved, and the map it joined).
-nlohmann::json LoopsJson(const std::vector<slam::LoopClosure>& closures) {
-  nlohmann::json loops = nlohmann::json::array();
-  for (const slam::LoopClosure& loop : closures) {
-    nlohmann::json entry = {{"timestamp", loop.timestamp},
-                            {"loop_timestamp", loop.loop_timestamp},
-                            {"inliers", loop.inliers}};
-    if (loop.merged_map) {
-      entry["merged_map"] = *loop.merged_map;
-      entry["into_map"] = loop.map;
-    } else {
-      entry["correction_m"] = loop.correction_m;
-      entry["correction_deg"] = loop.correction_deg;
-    }
-    loops.push_back(std::move(entry));
-  }
-  return loops;
-}
-
-// The maps frames were tracked in (after the merges): the main one's frames are in trajectory.txt.
-nlohmann::json MapsJson(const pipeline::RunSummary& s) {
-  nlohmann::json maps = nlohmann::json::array();
-  for (const slam::MapSummary& map : s.maps) {
-    const std::string trajectory =
-        map.id == s.main_map ? std::string("trajectory.txt") : pipeline::OtherMapTrajectoryName(map.id);
-    maps.push_back({{"id", map.id}, {"frames", map.frames}, {"keyframes", map.keyframes}, {"trajectory", trajectory}});
-  }
-  return maps;
-}
-
-// How long loop closing looked for loops per keyframe, and verified each candidate: count, median and largest (ms).
-nlohmann::json LoopTimingsJson(const pipeline::RunSummary& s) {
-  const auto statistics = [](const std::vector<double>& ms) -> nlohmann::json {
-    if (ms.empty()) return {{"count", 0}, {"median", nullptr}, {"max", nullptr}};
-    const eval::ErrorStatistics stats = eval::ComputeStatistics(ms);
-    return {{"count", ms.size()}, {"median", stats.median}, {"max", stats.max}};
-  };
-  return {{"detection", statistics(s.loop_timings.detection_ms)},
-          {"verification", statistics(s.loop_timings.verification_ms)}};
-}
-
-nlohmann::json SummaryJson(const pipeline::RunSummary& s, const std::string& sequence, const std::string& mode,
-                           const std::string& detector, const pipeline::RealTimeOptions& realtime) {
-  const auto median = [&](double pipeline::StageTimes::*stage) { return MedianMs(s.times, std::mem_fn(stage)); };
-  return {{"sequence", sequence},
-          {"filter", mode},
-          {"detector", detector},
-          {"realtime", realtime.enabled},
-          {"paced", realtime.pace},
-          {"detector_latency_ms", realtime.detector_latency_ms},
-          {"frames", s.frames},
-          {"dropped", s.dropped},
-          {"tracked", s.tracked},
-          {"lost", s.lost},
-          {"withdrawn", s.withdrawn},
-          {"before_initialization", s.before_initialization},
-          {"keyframes", s.keyframes},
-          {"map_points", s.map_points},
-          {"detector_failures", s.detector_failures},
-          {"keypoints_extracted", s.keypoints_extracted},
-          {"keypoints_dropped", s.keypoints_dropped},
-          {"keypoints_tracked", s.keypoints_tracked},
-          {"moving_points_erased", s.moving_points},
-          {"interrupted", s.interrupted},
-          {"seconds", s.seconds},
-          {"frames_per_second", s.seconds > 0.0 ? static_cast<double>(s.frames) / s.seconds : 0.0},
-          {"loops", LoopsJson(s.loops)},
-          {"merges", LoopsJson(s.merges)},
-          {"maps", MapsJson(s)},
-          {"loop_closing_ms", LoopTimingsJson(s)},
-          {"final_adjustment_ms", s.final_adjustment_ms},
-          {"detections", DetectionsJson(s)},
-          {"exclusion_quality", ExclusionQualityJson(s)},
-          {"median_ms",
-           {{"load", median(&pipeline::StageTimes::load)},
-            {"extract", median(&pipeline::StageTimes::extract)},
-            {"detect", median(&pipeline::StageTimes::detect)},
-            {"filter", median(&pipeline::StageTimes::filter)},
-            {"track", median(&pipeline::StageTimes::track)},
-            {"tracking_total", MedianMs(s.times, &pipeline::StageTimes::TrackingTotal)}}}};
-}
-
-// How the run was made, for whoever reads its folder later: the command line, the version, the settings as used
-// (the file's values with the command line's overrides), the vocabulary's identity, the detector's file.
-nlohmann::json ProvenanceJson(const io::SettingsChoice& choice, const io::Settings& used, const std::string& vocabulary,
-                              const detect::Detector& detector) {
-  nlohmann::json settings = {{"file", choice.file.empty() ? nlohmann::json(nullptr) : nlohmann::json(choice.file)},
-                             {"chosen", io::ToString(choice.reason)},
-                             {"values", io::SettingsToJson(used)}};
-  const std::vector<std::uint8_t> vocabulary_bytes = io::ReadBinaryFile(vocabulary, "vocabulary file");
-  nlohmann::json detector_source = nullptr;
-  if (const fs::path source = detector.Source(); !source.empty()) {
-    detector_source = {{"file", source}, {"sha256", io::FileSha256(source, "detector file")}};
-  }
-  return {{"command_line", CommandLineJson()},
-          {"version", HOIDSLAM_VERSION},
-          {"settings", std::move(settings)},
-          {"vocabulary",
-           {{"file", vocabulary}, {"identity", fmt::format("{:016x}", bow::StoredChecksum(vocabulary_bytes))}}},
-          {"detector_source", std::move(detector_source)}};
-}
 
 // --camera fx,fy,cx,cy[,k1,k2,p1,p2,k3] in place of the settings' camera, at the size of the sequence's images; the
 // settings' baseline is kept (Camera.bf follows fx).
@@ -300,9 +153,15 @@ void RunRun(const RunArgs& args) {
   const pipeline::RunSummary summary = pipeline::RunSequence(sequence, *detector, options, out.temporary(),
                                                              [&interrupts] { return interrupts.requested(); });
 
-  nlohmann::json json =
-      SummaryJson(summary, sequence.name(), options.exclusion.ModeName(), detector->Name(), options.realtime);
-  json["provenance"] = ProvenanceJson(choice, settings, args.vocabulary, *detector);
+  nlohmann::json json = pipeline::RunSummaryJson(summary, sequence.name(), options.exclusion.ModeName(),
+                                                 detector->Name(), options.realtime);
+  json["provenance"] = pipeline::ProvenanceJson({.command_line = CommandLineJson(),
+                                                 .version = HOIDSLAM_VERSION,
+                                                 .settings_file = choice.file,
+                                                 .settings_chosen = std::string(io::ToString(choice.reason)),
+                                                 .settings = settings,
+                                                 .vocabulary = args.vocabulary,
+                                                 .detector_source = detector->Source()});
   std::optional<eval::Evaluation> evaluation;
   std::optional<eval::PoseCheck> relocalizations, loops, merges;
   std::optional<eval::LoopRecall> loop_recall;

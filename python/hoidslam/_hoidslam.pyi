@@ -145,6 +145,8 @@ class System:
         deterministic: bool = False,
         keypoint_budget: str = "static",
         vocabulary: _Path | None = None,
+        load_map: _Path | None = None,
+        localization: bool = False,
     ) -> None:
         """settings: ORB-SLAM3-style YAML (shipped_dir()/"config/TUM3.yaml"); None: TUM fr3 defaults.
         camera: a Camera from the SDK's values, in place of the settings' camera, depth factor and baseline.
@@ -171,7 +173,12 @@ class System:
     def map_points(self) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.uint8], npt.NDArray[np.int32]]:
         """(positions N x 3 metres, colours N x 3 RGB, observations N)."""
     def save(self, folder: _Path) -> None:
-        """Finishes, then writes trajectory.txt, keyframes.txt and map.ply into folder."""
+        """Finishes, then writes what hoidslam run writes into folder: trajectory.txt, keyframes.txt, map.ply,
+        frames.jsonl, summary.json and report.html."""
+    def save_map(self, path: _Path) -> None:
+        """Finishes, then writes the map to a map file System(load_map=...) starts from."""
+    def reset(self) -> None:
+        """Back to no frames, as a new System with the same options."""
     @property
     def width(self) -> int: ...
     @property

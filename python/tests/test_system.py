@@ -35,6 +35,27 @@ def test_a_deterministic_run_equals_the_command_byte_for_byte(walk, tmp_path):
     assert hoidslam.ate(sequence.groundtruth(), slam.trajectory()).rmse == pytest.approx(reported, rel=1e-6)
 
 
+def test_save_writes_a_run_folder_the_command_reads_and_a_map_to_start_from(walk, tmp_path):
+    sequence = hoidslam.Sequence(walk)
+    slam = hoidslam.System(filter="none", deterministic=True)
+    for f in sequence:
+        slam.track(f.rgb, f.depth, f.timestamp)
+    slam.save(tmp_path / "out")
+    for name in ("trajectory.txt", "keyframes.txt", "map.ply", "frames.jsonl", "summary.json", "report.html"):
+        assert (tmp_path / "out" / name).is_file(), name
+    report = subprocess.run([BINARY, "report", str(tmp_path / "out"), "--out", str(tmp_path / "again.html")],
+                            capture_output=True, text=True)
+    assert report.returncode == 0, report.stderr
+    assert json.loads((tmp_path / "out" / "summary.json").read_text())["tracked"] == len(sequence)
+
+    slam.save_map(tmp_path / "walk.hmap")
+    again = hoidslam.System(filter="none", load_map=tmp_path / "walk.hmap", localization=True)
+    results = [again.track(f.rgb, f.depth, f.timestamp) for f in sequence]
+    assert sum(r.pose is not None for r in results) >= len(sequence) - 1
+    again.reset()
+    assert again.track(sequence[0].rgb, sequence[0].depth, sequence[0].timestamp).index == 0
+
+
 def test_results_are_views_with_verdicts(walk):
     detections = hoidslam.DetectionsFile(walk / "detections.jsonl")
     slam = hoidslam.System(filter="hoid2d")

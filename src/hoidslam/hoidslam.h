@@ -135,6 +135,12 @@ struct Options {
   // Where a frame's keypoint budget goes: "static" (to what the filter keeps) or "image" (as ORB-SLAM spreads it).
   std::string keypoint_budget = "static";
   std::filesystem::path vocabulary;  // bag-of-words vocabulary for relocalisation; empty: the shipped one
+  // Start from the map in this map file (System::SaveMap, `hoidslam run --save-map`): the first frame is
+  // relocalised in it, and new keyframes continue it. Made with the same camera and vocabulary (docs/slam.md,
+  // "Map reuse").
+  std::filesystem::path load_map;
+  // With load_map: track against the loaded map without changing it (no new keyframes, no local mapping).
+  bool localization = false;
 };
 
 // A camera pose at a time: camera to world, as a row of a TUM trajectory file.
@@ -245,9 +251,17 @@ class System {
   std::vector<StampedPose> Trajectory() const;
   std::vector<StampedPose> KeyFrames() const;
   std::vector<MapPoint> MapPoints() const;
-  // Writes trajectory.txt, keyframes.txt and map.ply into `folder` (created when missing), each complete or
-  // absent: the files `hoidslam run` writes. Finishes first.
+  // Writes what `hoidslam run` writes for a sequence without ground truth into `folder` (created when missing),
+  // each file complete or absent: trajectory.txt, keyframes.txt, map.ply, frames.jsonl, summary.json (with its
+  // provenance: the settings or camera, the vocabulary, the detector's model) and report.html, so that `hoidslam
+  // report` and `bench` read the folder. Finishes first. InputError naming the folder when it cannot be made.
   void Save(const std::filesystem::path& folder);
+  // Writes the map to a map file Options::load_map (and `hoidslam run --load-map`) start from. Finishes first.
+  // InputError naming the file when it cannot be written.
+  void SaveMap(const std::filesystem::path& path);
+  // Back to no frames, as a new System with the same options (a map of Options::load_map is loaded again): for a
+  // camera that was moved away, or a new recording. The next frame may have any timestamp.
+  void Reset();
 
   int width() const;   // the camera's image size (Camera.width, Camera.height of the settings)
   int height() const;

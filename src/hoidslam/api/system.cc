@@ -15,10 +15,14 @@
 #include "hoidslam/version.h"
 #include "hoidslam/api/convert.h"
 #include "hoidslam/core/shipped_dir.h"
+#include "hoidslam/core/stopwatch.h"
 #include "hoidslam/detect/make_detector.h"
+#include "hoidslam/io/atomic_file.h"
 #include "hoidslam/io/settings.h"
 #include "hoidslam/pipeline/run.h"
 #include "hoidslam/pipeline/session.h"
+#include "hoidslam/pipeline/summary_json.h"
+#include "hoidslam/report/html_report.h"
 
 namespace hoidslam {
 namespace {
@@ -71,6 +75,11 @@ pipeline::RunOptions ToRunOptions(const Options& options, const io::Settings& se
   if (!options.vocabulary.empty()) run.system.vocabulary = options.vocabulary;
   run.realtime.enabled = options.realtime;
   run.snapshots = 0;
+  if (options.localization && options.load_map.empty()) {
+    throw InputError::ForParameter("localization", "needs a map to track against (load_map)");
+  }
+  run.system.load_map = options.load_map;
+  run.system.localization = options.localization;
   if (options.detector == DetectorKind::kNone && run.exclusion.NeedsDetections()) {
     throw InputError::ForParameter(
         "detector", fmt::format("filter {} needs detections: give them per frame (DetectorKind::kGiven), a model "
@@ -196,9 +205,11 @@ std::string_view FrameResult::DropReason(std::size_t i) const {
 class System::Impl {
  public:
   explicit Impl(const Options& options)
-      : settings_(SettingsOf(options)),
+      : options_(options),
+        settings_(SettingsOf(options)),
+        run_options_(ToRunOptions(options, settings_)),
         detector_(MakeDetector(options)),
-        session_(ToRunOptions(options, settings_), detector_.get(), {}),
+        session_(std::make_unique<pipeline::Session>(run_options_, detector_.get(), std::filesystem::path())),
         given_(options.detector == DetectorKind::kGiven) {}
 
   FrameResult Track(const ImageView& rgb, const ImageView& depth, double timestamp,
@@ -216,7 +227,7 @@ class System::Impl {
     if (!given_ && !detections.empty()) {
       throw InputError::ForParameter("detections", "the system runs its own detector: pass no detections");
     }
-    const core::CameraIntrinsics& camera = session_.options().system.camera;
+    const core::CameraIntrinsics& camera = run_options_.system.camera;
     core::RgbdFrame frame;
     frame.timestamp = timestamp;
     frame.depth_delay = depth_delay;
@@ -224,13 +235,70 @@ class System::Impl {
     frame.depth = api::DepthMetres(depth, camera.width, camera.height, settings_.depth_map_factor, "depth");
     std::optional<std::vector<core::Detection>> boxes;
     if (given_) boxes = api::ToCoreDetections(detections, "detections");
-    const pipeline::FrameOutcome& outcome = session_.Track(index_, frame, boxes ? &*boxes : nullptr);
+    if (index_ == 0) clock_.Restart();
+    const pipeline::FrameOutcome& outcome = session_->Track(index_, frame, boxes ? &*boxes : nullptr);
     last_timestamp_ = timestamp;
+    frame_log_.push_back(outcome.entry.dump());
     return ToFrameResult(index_++, timestamp, outcome);
   }
 
-  pipeline::Session& session() { return session_; }
+  void Finish() {
+    if (!session_->finished()) seconds_ = index_ == 0 ? 0.0 : clock_.ElapsedMilliseconds() / 1000.0;
+    session_->Finish();
+  }
+
+  // Every file `hoidslam run` writes for a sequence without ground truth, each complete or absent.
+  void Save(const std::filesystem::path& folder) {
+    Finish();
+    std::error_code error;
+    std::filesystem::create_directories(folder, error);
+    if (error) throw InputError::InFile(folder, "cannot create the folder to save into: " + error.message());
+    session_->WriteOutputs(folder);
+    {
+      io::AtomicFile log(folder / "frames.jsonl");
+      for (const std::string& line : frame_log_) log.stream() << line << '\n';
+      log.Commit();
+    }
+    pipeline::RunSummary& summary = session_->summary();
+    summary.seconds = seconds_;
+    nlohmann::json json = pipeline::RunSummaryJson(summary, "api", run_options_.exclusion.ModeName(),
+                                                   detector_ ? detector_->Name() : (given_ ? "given" : "none"),
+                                                   run_options_.realtime);
+    json["provenance"] = pipeline::ProvenanceJson(
+        {.version = HOIDSLAM_VERSION,
+         .settings_file = options_.settings,
+         .settings_chosen = options_.camera ? "camera" : options_.settings.empty() ? "default" : "given",
+         .settings = settings_,
+         .vocabulary = run_options_.system.vocabulary,
+         .detector_source = detector_ ? detector_->Source() : std::filesystem::path()});
+    {
+      io::AtomicFile file(folder / "summary.json");
+      file.stream() << json.dump(2) << '\n';
+      file.Commit();
+    }
+    report::WriteRunReport(folder, {}, folder / "report.html");
+  }
+
+  void SaveMap(const std::filesystem::path& path) {
+    io::CheckWritableFile(path, "path");
+    Finish();
+    session_->system().SaveMap(path);
+  }
+
+  // Back to no frames: the session and its maps are dropped (a loaded map is loaded again).
+  void Reset() {
+    session_->Finish();
+    session_.reset();  // its threads stop before the next one's start
+    session_ = std::make_unique<pipeline::Session>(run_options_, detector_.get(), std::filesystem::path());
+    index_ = 0;
+    last_timestamp_ = 0.0;
+    seconds_ = 0.0;
+    frame_log_.clear();
+  }
+
+  const pipeline::Session& session() const { return *session_; }
   const io::Settings& settings() const { return settings_; }
+  const pipeline::RunOptions& run_options() const { return run_options_; }
   // Held by every call that tracks, finishes or reads the session: frames are tracked one at a time, in the order
   // the calls take it, and the trajectory and map are read between frames (local mapping's own threads lock the
   // map themselves).
@@ -238,12 +306,18 @@ class System::Impl {
 
  private:
   mutable std::mutex mutex_;
+  Options options_;
   io::Settings settings_;
+  pipeline::RunOptions run_options_;
   std::unique_ptr<detect::Detector> detector_;  // before the session, whose detector thread uses it
-  pipeline::Session session_;
+  std::unique_ptr<pipeline::Session> session_;
   bool given_;
   std::size_t index_ = 0;
   double last_timestamp_ = 0.0;
+  core::Stopwatch clock_;  // from the first frame, for summary.json's seconds and frames per second
+  double seconds_ = 0.0;
+  // Each frame's line of frames.jsonl, as `hoidslam run` writes it (a few hundred bytes a frame).
+  std::vector<std::string> frame_log_;
 };
 
 System::System(const Options& options) : impl_(std::make_unique<Impl>(options)) {}
@@ -259,7 +333,7 @@ FrameResult System::Track(const ImageView& rgb, const ImageView& depth, double t
 
 void System::Finish() {
   const std::lock_guard lock(impl_->mutex());
-  impl_->session().Finish();
+  impl_->Finish();
 }
 
 std::vector<StampedPose> System::Trajectory() const {
@@ -284,16 +358,22 @@ std::vector<MapPoint> System::MapPoints() const {
 
 void System::Save(const std::filesystem::path& folder) {
   const std::lock_guard lock(impl_->mutex());
-  impl_->session().Finish();
-  std::error_code error;
-  std::filesystem::create_directories(folder, error);
-  if (error) throw InputError::InFile(folder, "cannot create the folder to save into: " + error.message());
-  impl_->session().WriteOutputs(folder);
+  impl_->Save(folder);
 }
 
-int System::width() const { return impl_->session().options().system.camera.width; }
-int System::height() const { return impl_->session().options().system.camera.height; }
+void System::SaveMap(const std::filesystem::path& path) {
+  const std::lock_guard lock(impl_->mutex());
+  impl_->SaveMap(path);
+}
+
+void System::Reset() {
+  const std::lock_guard lock(impl_->mutex());
+  impl_->Reset();
+}
+
+int System::width() const { return impl_->run_options().system.camera.width; }
+int System::height() const { return impl_->run_options().system.camera.height; }
 double System::depth_factor() const { return impl_->settings().depth_map_factor; }
-std::string System::filter() const { return impl_->session().options().exclusion.ModeName(); }
+std::string System::filter() const { return impl_->run_options().exclusion.ModeName(); }
 
 }  // namespace hoidslam

@@ -8,6 +8,7 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -17,6 +18,7 @@
 #include "hoidslam/detect/file_detector.h"
 #include "hoidslam/io/rgbd_sequence.h"
 #include "hoidslam/pipeline/run.h"
+#include "hoidslam/report/html_report.h"
 #include "hoidslam/synth/test_scenarios.h"
 #include "support/shared_data.h"
 #include "support/temp_dir.h"
@@ -207,6 +209,45 @@ TEST(System, ACameraGivenByValuesTakesMillimetreDepthAndTheWrongUnitIsRefused) {
   options.camera->cx = 320.0;
   options.camera->depth_scale = 0.0;
   EXPECT_THAT(ErrorOf([&] { System{options}; }), HasSubstr("parameter camera.depth_scale: must be > 0"));
+}
+
+// What the command does, from a program: every file of a run folder (read back as `hoidslam report` reads it), a
+// map file that a second session localises in, and a reset that starts again from nothing.
+TEST(System, SavesARunFolderAndAMapAndResets) {
+  HOIDSLAM_SHARED_PATH_OR_SKIP(tum_dir, "data/tum");
+  testing::TempDir dir;
+  const io::RgbdSequence sequence =
+      io::RgbdSequence::OpenTum(synth::fixtures::RenderShortWalk(dir / "walk", tum_dir, 20));
+  std::vector<core::RgbdFrame> frames;
+  for (std::size_t i = 0; i < sequence.size(); ++i) frames.push_back(sequence.LoadFrame(i));
+  System slam(WithFilter("none", kDeterministic));
+  for (const core::RgbdFrame& frame : frames) Track(slam, frame.rgb, frame.depth, frame.timestamp);
+  slam.Save(dir / "out");
+  const report::RunReport report = report::LoadRunReport(dir / "out", {});
+  EXPECT_EQ(report.frames, frames.size());
+  EXPECT_EQ(report.tracked, frames.size());
+  EXPECT_EQ(report.frame_log.size(), frames.size());
+  EXPECT_TRUE(fs::exists(dir / "out" / "report.html"));
+  const nlohmann::json summary = nlohmann::json::parse(testing::ReadText(dir / "out" / "summary.json"));
+  EXPECT_EQ(summary["provenance"]["settings"]["chosen"], "default");
+  EXPECT_EQ(summary["provenance"]["version"], Version());
+  EXPECT_TRUE(summary["provenance"]["command_line"].is_null());
+
+  slam.SaveMap(dir / "walk.hmap");
+  Options localize = WithFilter("none", kDeterministic);
+  localize.load_map = dir / "walk.hmap";
+  localize.localization = true;
+  System again(localize);
+  std::size_t tracked = 0;
+  for (const core::RgbdFrame& frame : frames) tracked += Track(again, frame.rgb, frame.depth, frame.timestamp).T_wc ? 1 : 0;
+  EXPECT_GE(tracked, frames.size() - 1);  // the first frame is relocalised, provisionally
+  EXPECT_EQ(again.KeyFrames().size(), slam.KeyFrames().size());  // localisation adds no keyframe
+
+  again.Reset();
+  EXPECT_EQ(Track(again, frames[0].rgb, frames[0].depth, frames[0].timestamp).index, 0U);  // an earlier time is fine
+  localize.load_map.clear();
+  EXPECT_THAT(ErrorOf([&] { System{localize}; }), HasSubstr("parameter localization: needs a map"));
+  EXPECT_THAT(ErrorOf([&] { slam.SaveMap(dir / "no" / "such" / "folder.hmap"); }), HasSubstr("folder.hmap"));
 }
 
 TEST(System, TakesRgbGreyAndFloatDepthAndPaddedRows) {
