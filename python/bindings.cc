@@ -49,6 +49,15 @@ T ValueArgument(const py::handle& value, const std::string& name, const std::str
   }
 }
 
+// None (empty) or a str or os.PathLike.
+std::filesystem::path PathArgument(const py::handle& value, const std::string& name) {
+  if (value.is_none()) return {};
+  if (!py::isinstance<py::str>(value) && !py::hasattr(value, "__fspath__")) {
+    throw InputError::ForParameter(name, "must be a path (str or os.PathLike) or None, got " + TypeName(value));
+  }
+  return value.cast<std::filesystem::path>();
+}
+
 // None or a list of Detection.
 std::vector<Detection> DetectionsArgument(const py::handle& value) {
   std::vector<Detection> detections;
@@ -231,9 +240,25 @@ fx, fy, cx, cy: pixels; width, height: the image size; distortion: (k1, k2, p1, 
 depth_scale: metres per unit of uint16 depth (0.001 for millimetres: RealSense's get_depth_scale(), OpenNI, Azure
 Kinect); baseline: metres between the depth camera's projector and sensor (points nearer than 40 baselines count as
 close).)")
-      .def(py::init([](double fx, double fy, double cx, double cy, int width, int height,
-                       const std::array<double, 5>& distortion, double depth_scale, double baseline) {
-             return Camera{fx, fy, cx, cy, distortion, width, height, depth_scale, baseline};
+      .def(py::init([](const py::object& fx, const py::object& fy, const py::object& cx, const py::object& cy,
+                       const py::object& width, const py::object& height, const py::object& distortion,
+                       const py::object& depth_scale, const py::object& baseline) {
+             const auto number = [](const py::object& value, const char* name) {
+               return ValueArgument<double>(value, std::string("camera.") + name, "a number");
+             };
+             const auto pixels = [](const py::object& value, const char* name) {
+               return ValueArgument<int>(value, std::string("camera.") + name, "an int");
+             };
+             return Camera{number(fx, "fx"),
+                           number(fy, "fy"),
+                           number(cx, "cx"),
+                           number(cy, "cy"),
+                           ValueArgument<std::array<double, 5>>(distortion, "camera.distortion",
+                                                                "5 numbers k1, k2, p1, p2, k3"),
+                           pixels(width, "width"),
+                           pixels(height, "height"),
+                           number(depth_scale, "depth_scale"),
+                           number(baseline, "baseline")};
            }),
            py::kw_only(), py::arg("fx"), py::arg("fy"), py::arg("cx"), py::arg("cy"), py::arg("width"),
            py::arg("height"), py::arg("distortion") = std::array<double, 5>{}, py::arg("depth_scale") = 0.001,
@@ -355,24 +380,27 @@ realtime: the detector in its own thread; deterministic: byte-identical results 
 load_map: a map file (save_map, hoidslam run --save-map) to start from; localization: track against it unchanged.
 Threads may share it: track calls run one at a time (a frame not newer than the last one tracked raises an
 InputError naming timestamp), and trajectory(), keyframes() and map_points() read between two frames.)")
-      .def(py::init([](const std::optional<std::filesystem::path>& settings, const std::optional<Camera>& camera,
-                       const std::string& filter,
-                       const std::string& detector, const std::optional<std::filesystem::path>& model, bool realtime,
-                       bool deterministic, const std::string& keypoint_budget,
-                       const std::optional<std::filesystem::path>& vocabulary,
-                       const std::optional<std::filesystem::path>& load_map, bool localization) {
+      .def(py::init([](const py::object& settings, const py::object& camera, const py::object& filter,
+                       const py::object& detector, const py::object& model, const py::object& realtime,
+                       const py::object& deterministic, const py::object& keypoint_budget,
+                       const py::object& vocabulary, const py::object& load_map, const py::object& localization) {
              Options options;
-             options.settings = settings.value_or("");
-             options.camera = camera;
-             options.filter = filter;
-             options.detector = ParseDetectorKind(detector);
-             options.model = model.value_or("");
-             options.realtime = realtime;
-             options.deterministic = deterministic;
-             options.keypoint_budget = keypoint_budget;
-             options.vocabulary = vocabulary.value_or("");
-             options.load_map = load_map.value_or("");
-             options.localization = localization;
+             options.settings = PathArgument(settings, "settings");
+             if (!camera.is_none()) {
+               if (!py::isinstance<Camera>(camera)) {
+                 throw InputError::ForParameter("camera", "must be a hoidslam.Camera or None, got " + TypeName(camera));
+               }
+               options.camera = camera.cast<Camera>();
+             }
+             options.filter = ValueArgument<std::string>(filter, "filter", "a str");
+             options.detector = ParseDetectorKind(ValueArgument<std::string>(detector, "detector", "a str"));
+             options.model = PathArgument(model, "model");
+             options.realtime = ValueArgument<bool>(realtime, "realtime", "True or False");
+             options.deterministic = ValueArgument<bool>(deterministic, "deterministic", "True or False");
+             options.keypoint_budget = ValueArgument<std::string>(keypoint_budget, "keypoint_budget", "a str");
+             options.vocabulary = PathArgument(vocabulary, "vocabulary");
+             options.load_map = PathArgument(load_map, "load_map");
+             options.localization = ValueArgument<bool>(localization, "localization", "True or False");
              py::gil_scoped_release release;  // loading the vocabulary and the model takes a moment
              return System(options);
            }),

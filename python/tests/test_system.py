@@ -178,6 +178,13 @@ def test_wrong_argument_types_are_named_and_never_printed():
     depth = np.zeros((480, 640), np.uint16)
     pixels = rgb.tolist()  # printed, this list would be megabytes
     for call, expected in [
+        (lambda: hoidslam.System(settings=5), "parameter settings: must be a path (str or os.PathLike) or None, got int"),
+        (lambda: hoidslam.System(camera="d435"), "parameter camera: must be a hoidslam.Camera or None, got str"),
+        (lambda: hoidslam.System(filter=None), "parameter filter: must be a str, got None"),
+        (lambda: hoidslam.Camera(fx="615", fy=615, cx=320, cy=240, width=640, height=480),
+         "parameter camera.fx: must be a number, got str"),
+        (lambda: hoidslam.Camera(fx=615, fy=615, cx=320, cy=240, width=640, height=480, distortion=(0, 0)),
+         "parameter camera.distortion: must be 5 numbers k1, k2, p1, p2, k3, got tuple"),
         (lambda: slam.track(None, depth, 1.0), "parameter rgb: must be a numpy array, uint8 (height, width, 3) or "
                                                "(height, width), got None"),
         (lambda: slam.track(pixels, depth, 1.0), "parameter rgb: must be a numpy array, uint8 (height, width, 3) or "

@@ -217,7 +217,9 @@ class System::Impl {
     if (!std::isfinite(timestamp)) throw InputError::ForParameter("timestamp", "must be a finite number of seconds");
     if (!(std::abs(depth_delay) < 1.0)) {
       throw InputError::ForParameter("depth_delay",
-                                     fmt::format("must be under a second either way, got {}", depth_delay));
+                                     fmt::format("must be under a second either way, got {}: colour and depth this far "
+                                                 "apart are of different moments (two cameras, or two clocks)",
+                                                 depth_delay));
     }
     if (index_ > 0 && !(timestamp > last_timestamp_)) {
       throw InputError::ForParameter(
