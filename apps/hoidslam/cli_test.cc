@@ -450,6 +450,26 @@ TEST(CliRun, ImagesOfAnotherSizeThanTheSettingsNameTheImageAndTheSettingsFile) {
   EXPECT_FALSE(fs::exists(scratch / "run"));
 }
 
+// A camera given on the command line by its intrinsics: its size is the images', its values are recorded.
+TEST(CliRun, TakesTheCameraFromTheCommandLine) {
+  const testing::TempDir scratch;
+  HOIDSLAM_SHARED_PATH_OR_SKIP(sequence, "data/tum/fr3_walking_xyz_pair");
+  const RunResult run = RunHoidslam(scratch, {"run", sequence.string(), "--camera", "530,531,321,241,0.01,0,0,0,0",
+                                              "--filter", "none", "--out", (scratch / "run").string()});
+  ASSERT_EQ(run.exit_status, 0) << run.err;
+  const nlohmann::json values = Summary(scratch / "run")["provenance"]["settings"]["values"];
+  EXPECT_DOUBLE_EQ(values["Camera.fx"].get<double>(), 530.0);
+  EXPECT_DOUBLE_EQ(values["Camera.cy"].get<double>(), 241.0);
+  EXPECT_DOUBLE_EQ(values["Camera.k1"].get<double>(), 0.01);
+  EXPECT_EQ(values["Camera.width"], 640);
+  ExpectOneErrorLine(RunHoidslam(scratch, {"run", sequence.string(), "--camera", "530,531,321", "--out",
+                                           (scratch / "bad").string()}),
+                     "parameter --camera: takes fx,fy,cx,cy or fx,fy,cx,cy,k1,k2,p1,p2,k3, got 3 values");
+  ExpectOneErrorLine(RunHoidslam(scratch, {"run", sequence.string(), "--camera", "530,531,700,241", "--out",
+                                           (scratch / "bad").string()}),
+                     "Camera.cx: must be in [0, Camera.width=640], got 700");
+}
+
 // A folder named as TUM names its downloads gets the settings of that camera, and the run says so; its summary.json
 // holds what it takes to run it again, and its command line, run again, gives the same files.
 TEST(CliRun, ChoosesSettingsByTheFolderNameAndRecordsHowToRunItAgain) {
