@@ -161,6 +161,7 @@ void RunRun(const RunArgs& args) {
                                                  .settings_chosen = std::string(io::ToString(choice.reason)),
                                                  .settings = settings,
                                                  .vocabulary = args.vocabulary,
+                                                 .vocabulary_identity = summary.vocabulary_identity,
                                                  .detector_source = detector->Source()});
   std::optional<eval::Evaluation> evaluation;
   std::optional<eval::PoseCheck> relocalizations, loops, merges;

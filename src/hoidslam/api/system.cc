@@ -272,6 +272,7 @@ class System::Impl {
          .settings_chosen = options_.camera ? "camera" : options_.settings.empty() ? "default" : "given",
          .settings = settings_,
          .vocabulary = run_options_.system.vocabulary,
+         .vocabulary_identity = summary.vocabulary_identity,
          .detector_source = detector_ ? detector_->Source() : std::filesystem::path()});
     {
       io::AtomicFile file(folder / "summary.json");

@@ -50,6 +50,15 @@ struct BlankFrame {
   cv::Mat depth = cv::Mat(480, 640, CV_16UC1, cv::Scalar(10000));
 };
 
+// The frames of a short synthetic walk rendered into dir/walk: `count` frames, every 4th of walking_xyz.
+std::vector<core::RgbdFrame> RenderedWalk(const testing::TempDir& dir, const fs::path& tum_dir, std::size_t count) {
+  const io::RgbdSequence sequence =
+      io::RgbdSequence::OpenTum(synth::fixtures::RenderShortWalk(dir / "walk", tum_dir, count));
+  std::vector<core::RgbdFrame> frames;
+  for (std::size_t i = 0; i < sequence.size(); ++i) frames.push_back(sequence.LoadFrame(i));
+  return frames;
+}
+
 // The message of the InputError `call` throws.
 template <typename Call>
 std::string ErrorOf(Call call) {
@@ -107,10 +116,7 @@ TEST(System, GivesTheTrajectoryOfHoidslamRunByteForByte) {
 TEST(System, TracksFromFourThreadsWhileAFifthReadsTheMap) {
   HOIDSLAM_SHARED_PATH_OR_SKIP(tum_dir, "data/tum");
   testing::TempDir dir;
-  const io::RgbdSequence sequence =
-      io::RgbdSequence::OpenTum(synth::fixtures::RenderShortWalk(dir / "walk", tum_dir, 40));
-  std::vector<core::RgbdFrame> frames;
-  for (std::size_t i = 0; i < sequence.size(); ++i) frames.push_back(sequence.LoadFrame(i));
+  const std::vector<core::RgbdFrame> frames = RenderedWalk(dir, tum_dir, 40);
 
   System slam(WithFilter("none"));
   std::atomic<std::size_t> next{0};
@@ -181,16 +187,15 @@ TEST(System, TracksFromFourThreadsWhileAFifthReadsTheMap) {
 TEST(System, ACameraGivenByValuesTakesMillimetreDepthAndTheWrongUnitIsRefused) {
   HOIDSLAM_SHARED_PATH_OR_SKIP(tum_dir, "data/tum");
   testing::TempDir dir;
-  const io::RgbdSequence sequence =
-      io::RgbdSequence::OpenTum(synth::fixtures::RenderShortWalk(dir / "walk", tum_dir, 20));
+  const std::vector<core::RgbdFrame> frames = RenderedWalk(dir, tum_dir, 20);
   const core::CameraIntrinsics tum3;  // the synthetic camera's intrinsics
   Options options = WithFilter("none", kDeterministic);
   options.camera = Camera{tum3.fx, tum3.fy, tum3.cx, tum3.cy, {}, 640, 480, 0.001, 0.075};
   System camera(options);
   System defaults(WithFilter("none"));
   std::size_t tracked = 0;
-  for (std::size_t i = 0; i < sequence.size(); ++i) {
-    const core::RgbdFrame frame = sequence.LoadFrame(i);
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const core::RgbdFrame& frame = frames[i];
     cv::Mat millimetres;
     frame.depth.convertTo(millimetres, CV_16UC1, 1000.0);
     tracked += Track(camera, frame.rgb, millimetres, frame.timestamp).T_wc ? 1 : 0;
@@ -201,7 +206,7 @@ TEST(System, ACameraGivenByValuesTakesMillimetreDepthAndTheWrongUnitIsRefused) {
                         HasSubstr("1000 units a metre would put it where a room is")));
     }
   }
-  EXPECT_EQ(tracked, sequence.size());
+  EXPECT_EQ(tracked, frames.size());
   EXPECT_EQ(camera.depth_factor(), 1000.0);
 
   options.camera->cx = 700.0;
@@ -216,10 +221,7 @@ TEST(System, ACameraGivenByValuesTakesMillimetreDepthAndTheWrongUnitIsRefused) {
 TEST(System, SavesARunFolderAndAMapAndResets) {
   HOIDSLAM_SHARED_PATH_OR_SKIP(tum_dir, "data/tum");
   testing::TempDir dir;
-  const io::RgbdSequence sequence =
-      io::RgbdSequence::OpenTum(synth::fixtures::RenderShortWalk(dir / "walk", tum_dir, 20));
-  std::vector<core::RgbdFrame> frames;
-  for (std::size_t i = 0; i < sequence.size(); ++i) frames.push_back(sequence.LoadFrame(i));
+  const std::vector<core::RgbdFrame> frames = RenderedWalk(dir, tum_dir, 20);
   System slam(WithFilter("none", kDeterministic));
   for (const core::RgbdFrame& frame : frames) Track(slam, frame.rgb, frame.depth, frame.timestamp);
   slam.Save(dir / "out");

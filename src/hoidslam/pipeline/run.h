@@ -140,6 +140,7 @@ struct RunSummary {
   std::optional<ExclusionCounts> exclusion;  // over all frames, when the sequence has ground-truth moving masks
   bool still_people_scored = false;  // it also has people masks: exclusion's static_dropped_on_still_people counts
   bool interrupted = false;          // stopped early by the caller; the outputs hold the frames done
+  std::string vocabulary_identity;   // of the vocabulary place recognition used (slam::System::VocabularyIdentity)
 };
 
 // The name of the trajectory file of a map other than the main one: trajectory-map<id>.txt.

@@ -179,6 +179,7 @@ Session::Session(const RunOptions& options, detect::Detector* detector, const st
   system_ = std::make_unique<slam::System>(system_options);
   if (exclusion_.CanScore()) summary_.exclusion.emplace();
   summary_.still_people_scored = exclusion_.ScoresStillPeople();
+  summary_.vocabulary_identity = system_->VocabularyIdentity();
   // Both modes hand frames to the detector thread: the synchronous one then waits for each frame's detections.
   if (detector != nullptr && (options.exclusion.NeedsDetections() || options.exclusion.oracle)) {
     detections_ = std::make_unique<Detections>(*detector, options);

@@ -1,12 +1,8 @@
 #include "hoidslam/pipeline/summary_json.h"
 
-#include <cstdint>
 #include <functional>
 #include <vector>
 
-#include <fmt/format.h>
-
-#include "hoidslam/bow/vocabulary_file.h"
 #include "hoidslam/eval/statistics.h"
 #include "hoidslam/io/files.h"
 
@@ -147,16 +143,13 @@ nlohmann::json ProvenanceJson(const Provenance& provenance) {
     detector_source = {{"file", provenance.detector_source},
                        {"sha256", io::FileSha256(provenance.detector_source, "detector file")}};
   }
-  const std::vector<std::uint8_t> vocabulary = io::ReadBinaryFile(provenance.vocabulary, "vocabulary file");
   return {{"command_line", provenance.command_line},
           {"version", provenance.version},
           {"settings",
            {{"file", path_or_null(provenance.settings_file)},
             {"chosen", provenance.settings_chosen},
             {"values", io::SettingsToJson(provenance.settings)}}},
-          {"vocabulary",
-           {{"file", provenance.vocabulary},
-            {"identity", fmt::format("{:016x}", bow::StoredChecksum(vocabulary))}}},
+          {"vocabulary", {{"file", provenance.vocabulary}, {"identity", provenance.vocabulary_identity}}},
           {"detector_source", std::move(detector_source)}};
 }
 

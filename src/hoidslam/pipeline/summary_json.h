@@ -25,11 +25,12 @@ struct Provenance {
   std::string settings_chosen;            // io::ToString(SettingsChoice::Reason), or "camera" from the API
   io::Settings settings;                  // every value as used
   std::filesystem::path vocabulary;
+  std::string vocabulary_identity;        // RunSummary::vocabulary_identity
   std::filesystem::path detector_source;  // a model or detections file (detect::Detector::Source); empty: none
 };
 // {"command_line", "version", "settings": {"file", "chosen", "values"}, "vocabulary": {"file", "identity"},
-// "detector_source": {"file", "sha256"} or null}. Reads the vocabulary and the detector's file (InputError naming
-// a file that cannot be read).
+// "detector_source": {"file", "sha256"} or null}. Reads the detector's file (InputError naming it when it cannot be
+// read).
 nlohmann::json ProvenanceJson(const Provenance& provenance);
 
 }  // namespace hoidslam::pipeline

@@ -104,6 +104,8 @@ class System {
   // Writes the main map to a map file (map_file.h; after Finish, the final map). Throws core::InputError naming the
   // file when it cannot be written.
   void SaveMap(const std::filesystem::path& path) const;
+  // The vocabulary's identity (bow::Vocabulary::identity), as a map file records it.
+  const std::string& VocabularyIdentity() const { return vocabulary_.identity(); }
 
   // The maps frames were tracked in, by id (one, unless tracking was lost long in new ground and the new map was
   // never merged). The main map is the one with the most tracked frames (of a tie, the first): the trajectory, the
