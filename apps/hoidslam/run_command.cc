@@ -6,6 +6,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <fmt/format.h>
@@ -27,11 +28,13 @@
 #include "hoidslam/io/settings.h"
 #include "hoidslam/io/trajectory_file.h"
 #include "hoidslam/pipeline/depth_units.h"
+#include "hoidslam/pipeline/playback.h"
 #include "hoidslam/pipeline/run.h"
 #include "hoidslam/pipeline/summary_json.h"
 #include "hoidslam/report/html_report.h"
 #include "hoidslam/slam/system.h"
 #include "hoidslam/version.h"
+#include "hoidslam/viewer/viewer.h"
 
 namespace hoidslam::apps {
 namespace {
@@ -64,6 +67,9 @@ struct RunArgs {
   std::size_t preload_megabytes = pipeline::RealTimeOptions{}.preload_megabytes;
   double detector_latency_ms = 0.0;
   bool force = false;
+  bool view = false;
+  viewer::ViewerOptions view_options;
+  bool view_keep = false;
 };
 
 // --camera fx,fy,cx,cy[,k1,k2,p1,p2,k3] in place of the settings' camera, at the size of the sequence's images; the
@@ -145,13 +151,38 @@ void RunRun(const RunArgs& args) {
     }
   }
 
+  // The viewer listens before the run starts: a port that is taken is said before any tracking.
+  pipeline::Playback playback;
+  std::unique_ptr<viewer::Viewer> view;
+  if (args.view) {
+    view = std::make_unique<viewer::Viewer>(
+        args.view_options, viewer::ViewerHello{sequence.name(), options.max_frames == 0 ? sequence.size()
+                                                                                         : std::min(options.max_frames, sequence.size()),
+                                               options.system.camera},
+        options.realtime.pace ? nullptr : &playback);
+    spdlog::info("viewer: {}", view->url());
+  }
+
   io::AtomicFolder out(args.out, args.force, "--out", "use --force to replace it");
   for (const fs::path& stale : out.stale_removed()) {
     spdlog::info("removed {}: the unfinished output of an earlier run into the same folder that was killed", stale.string());
   }
   core::InterruptGuard interrupts;
-  const pipeline::RunSummary summary = pipeline::RunSequence(sequence, *detector, options, out.temporary(),
-                                                             [&interrupts] { return interrupts.requested(); });
+  pipeline::RunHooks hooks{.stop_requested = [&interrupts] { return interrupts.requested(); }};
+  if (view) {
+    hooks.playback = &playback;
+    hooks.started = [&view](const pipeline::Session& session) {
+      view->FollowMap([&session] { return session.system().ViewAtlas(); });
+    };
+    hooks.frame_tracked = [&view](std::size_t index, const core::RgbdFrame& frame,
+                                  const pipeline::FrameOutcome& outcome) {
+      view->Publish(viewer::SnapshotOf(index, frame, outcome));
+    };
+    hooks.finished = [&view](const pipeline::Session& session) {
+      view->FinalMap(session.system().ViewAtlas(), session.summary().main_map);
+    };
+  }
+  const pipeline::RunSummary summary = pipeline::RunSequence(sequence, *detector, options, out.temporary(), hooks);
 
   nlohmann::json json = pipeline::RunSummaryJson(summary, sequence.name(), options.exclusion.ModeName(),
                                                  detector->Name(), options.realtime);
@@ -332,6 +363,14 @@ void RunRun(const RunArgs& args) {
     std::fflush(stdout);  // the signal raised again ends the process without flushing the summary printed above
     interrupts.Reraise();
   }
+  if (view) {
+    view->RunFinished();
+    if (args.view_keep) {
+      spdlog::info("viewer: {} shows the final map until Ctrl-C", view->url());
+      std::fflush(stdout);
+      while (!interrupts.requested()) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+  }
 }
 
 }  // namespace
@@ -423,6 +462,21 @@ void AddRunCommand(CLI::App& app) {
       ->check(CLI::Range(0.0, 60000.0))
       ->capture_default_str();
   command->add_flag("--force", args->force, "Replace the --out folder when it exists and is not empty");
+  CLI::Option* view = command->add_flag("--view", args->view,
+                    "Show the run live in a browser: the map, the current frame with the keypoints kept and dropped, "
+                    "the detector's boxes and the HOID verdicts, and pause / step / speed (docs/viewer.md)");
+  command->add_option("--view-port", args->view_options.port, "With --view: the port the page is served on (0: any free one)")
+      ->check(CLI::Range(0, 65535))
+      ->capture_default_str()
+      ->needs(view);
+  command->add_option("--view-address", args->view_options.address,
+                      "With --view: the address to listen on; 0.0.0.0 shows the page to other machines too (anyone who "
+                      "reaches this one can then see the camera's images and pause the run)")
+      ->capture_default_str()
+      ->needs(view);
+  command->add_flag("--view-keep", args->view_keep,
+                    "With --view: once the outputs are written, keep showing the final map until Ctrl-C (exit 0)")
+      ->needs(view);
   command->callback([args] { RunRun(*args); });
 }
 

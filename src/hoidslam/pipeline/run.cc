@@ -14,6 +14,7 @@
 #include "hoidslam/hoid/explain.h"
 #include "hoidslam/report/annotate.h"
 #include "hoidslam/pipeline/paced_replay.h"
+#include "hoidslam/pipeline/playback.h"
 #include "hoidslam/pipeline/session.h"
 
 namespace hoidslam::pipeline {
@@ -112,8 +113,9 @@ void CheckImageSize(const core::RgbdFrame& frame, const RunOptions& options) {
 }
 
 RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detector, const RunOptions& options,
-                       const std::filesystem::path& folder, const std::function<bool()>& stop_requested) {
+                       const std::filesystem::path& folder, const RunHooks& hooks) {
   Session session(options, &detector, sequence.root());
+  const std::function<bool()>& stop_requested = hooks.stop_requested;
   const RealTimeOptions& realtime = options.realtime;
   spdlog::info("{}: {} frames, filter {}, detector {}{}{}{}", sequence.name(), sequence.size(),
                options.exclusion.ModeName(), detector.Name(), realtime.enabled ? ", real time" : "",
@@ -129,6 +131,9 @@ RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detec
   std::optional<PacedReplay> paced;
   if (realtime.pace) paced.emplace(sequence, total, realtime.preload_megabytes << 20);
   core::ProgressReporter progress("run", total);
+  if (hooks.started) hooks.started(session);
+  Playback* const playback = paced ? nullptr : hooks.playback;
+  double held_seconds = 0.0;  // waiting for the playback's turn: not the system's time
   const core::Stopwatch run_clock;
   for (std::optional<std::size_t> previous; true;) {
     const std::optional<std::size_t> next =
@@ -139,6 +144,15 @@ RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detec
     }
     if (!next || *next >= total) break;
     const std::size_t index = *next;
+    if (playback != nullptr) {
+      const core::Stopwatch wait;
+      const bool go = playback->WaitForTurn(sequence.entry(index).rgb_timestamp, stop_requested);
+      held_seconds += wait.ElapsedMilliseconds() / 1000.0;
+      if (!go) {
+        summary.interrupted = true;
+        break;
+      }
+    }
     const std::size_t dropped_before = paced ? paced->dropped() - summary.dropped : 0;
     previous = index;
 
@@ -151,12 +165,14 @@ RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detec
                     outcome.features.keypoints, outcome.keep);
     }
     log.stream() << outcome.entry.dump() << '\n';
+    if (hooks.frame_tracked) hooks.frame_tracked(index, frame, outcome);
     progress.Update(index + 1);
   }
-  summary.seconds = run_clock.ElapsedMilliseconds() / 1000.0 - (paced ? paced->held_seconds() : 0.0);
+  summary.seconds = run_clock.ElapsedMilliseconds() / 1000.0 - (paced ? paced->held_seconds() : held_seconds);
   session.Finish();
   session.WriteOutputs(folder);
   log.Commit();
+  if (hooks.finished) hooks.finished(session);
   return summary;
 }
 

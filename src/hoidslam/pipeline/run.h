@@ -35,6 +35,10 @@
 
 namespace hoidslam::pipeline {
 
+class Playback;
+class Session;
+struct FrameOutcome;
+
 // How the detector keeps pace with tracking (docs/realtime.md).
 struct RealTimeOptions {
   // The detector in its own thread: each frame is judged by the newest detections there are, carried from the
@@ -151,11 +155,24 @@ std::string OtherMapTrajectoryName(slam::MapId map);
 std::optional<std::string> DetectOrKeepPrevious(detect::Detector& detector, const core::RgbdFrame& frame,
                                                 std::size_t index, std::vector<core::Detection>& detections);
 
-// Runs `sequence` and writes the outputs into `folder` (which must exist). `stop_requested` is polled between
-// frames (and while a paced run waits for the next frame). Throws InputError for unreadable input (naming the
-// file); a detector that fails on one frame is logged, and the frame uses the newest detections there are,
-// carried to it like late ones.
+// What a caller may follow and steer of a run (a viewer, Ctrl-C); every member is optional and none slows a run
+// that leaves it empty.
+struct RunHooks {
+  // Polled between frames (and while a paced run or a paused playback waits).
+  std::function<bool()> stop_requested{};
+  // Pause, step and speed of a run that is not paced; ignored by a paced one, whose clock is the recording's.
+  Playback* playback = nullptr;
+  // Called on the run's thread: when the session exists (it lives until `finished` returns), after each frame
+  // tracked (the frame and its outcome are valid during the call), and once the outputs are written.
+  std::function<void(const Session&)> started{};
+  std::function<void(std::size_t index, const core::RgbdFrame&, const FrameOutcome&)> frame_tracked{};
+  std::function<void(const Session&)> finished{};
+};
+
+// Runs `sequence` and writes the outputs into `folder` (which must exist). Throws InputError for unreadable input
+// (naming the file); a detector that fails on one frame is logged, and the frame uses the newest detections there
+// are, carried to it like late ones.
 RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detector, const RunOptions& options,
-                       const std::filesystem::path& folder, const std::function<bool()>& stop_requested = {});
+                       const std::filesystem::path& folder, const RunHooks& hooks = {});
 
 }  // namespace hoidslam::pipeline

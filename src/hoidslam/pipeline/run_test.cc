@@ -168,7 +168,8 @@ TEST(RunSequence, StopsWhenAskedAndKeepsWhatWasDone) {
   fs::create_directories(dir / "out");
   detect::FileDetector detector(sequence_root / "detections.jsonl");
   int polls = 0;
-  const RunSummary summary = RunSequence(sequence, detector, Hoid2d(), dir / "out", [&polls] { return ++polls > 12; });
+  const RunSummary summary = RunSequence(sequence, detector, Hoid2d(), dir / "out",
+                                         {.stop_requested = [&polls] { return ++polls > 12; }});
   EXPECT_TRUE(summary.interrupted);
   EXPECT_EQ(summary.frames, 12U);
   EXPECT_EQ(ReadLog(dir / "out" / "frames.jsonl").size(), 12U);

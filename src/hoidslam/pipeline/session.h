@@ -65,6 +65,7 @@ class Session {
   void WriteOutputs(const std::filesystem::path& folder);
 
   RunSummary& summary() { return summary_; }
+  const RunSummary& summary() const { return summary_; }
   const slam::System& system() const { return *system_; }
   const RunOptions& options() const { return options_; }
 

@@ -236,6 +236,32 @@ std::vector<MapPointSample> System::MapPoints() const {
   return samples;
 }
 
+AtlasView System::ViewAtlas() const {
+  AtlasView view;
+  std::shared_lock lock(map_.mutex());
+  const std::vector<MapPoint*> points = map_.MapPoints();
+  view.points.reserve(points.size());
+  for (const MapPoint* point : points) {
+    if (point->observations().empty()) continue;  // not drawn, as Map::MapPoints(map) gives it to no map
+    view.points.push_back({point->id(), point->observations().front().keyframe->map_id(),
+                           point->position().cast<float>(), point->color()});
+  }
+  const std::vector<KeyFrame*> keyframes = map_.KeyFrames();
+  view.keyframes.reserve(keyframes.size());
+  for (const KeyFrame* keyframe : keyframes) {
+    view.keyframes.push_back({keyframe->id(), keyframe->map_id(), keyframe->T_wc()});
+    for (const auto& [other, weight] : keyframe->covisibles()) {
+      if (weight >= AtlasView::kCovisibilityEdgeWeight && other->id() > keyframe->id() && !other->bad()) {
+        view.covisibility.emplace_back(keyframe->id(), other->id());
+      }
+    }
+    for (const KeyFrame* other : keyframe->loop_edges()) {  // Map::AddLoopEdge gives both ends the edge
+      if (other->id() > keyframe->id() && !other->bad()) view.loops.emplace_back(keyframe->id(), other->id());
+    }
+  }
+  return view;
+}
+
 std::size_t System::NumKeyFrames() const {
   const MapId main = MainMap();
   std::shared_lock lock(map_.mutex());
