@@ -2,7 +2,7 @@
 // camera looks along its +z with x right and y down, like the image.
 
 /** The world position of a point given in the camera's frame. */
-export function toWorld(T_wc, x, y, z) {
+function toWorld(T_wc, x, y, z) {
   return [
     T_wc[0] * x + T_wc[1] * y + T_wc[2] * z + T_wc[3],
     T_wc[4] * x + T_wc[5] * y + T_wc[6] * z + T_wc[7],
