@@ -3,6 +3,7 @@
 #   <prefix>/lib/libhoidslam.so                the public API with every module behind it
 #   <prefix>/include/hoidslam/                 hoidslam.h, hoidslam_opencv.h, version.h, core/error.h
 #   <prefix>/share/hoidslam/                   config/*.yaml, data/vocabulary/ (core::ShippedDir finds them)
+#   <prefix>/share/hoidslam/web/               the viewer's page (installed by web/CMakeLists.txt)
 #   <prefix>/lib/cmake/hoidslam/               find_package(hoidslam) → hoidslam::hoidslam
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)

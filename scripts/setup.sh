@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Sets up hoidslam on Debian 12 from nothing: installs the build dependencies from Debian's packages,
 # builds the Release binaries into build/, and runs the main job on data that needs no download. Chromium (the
-# report test opens the HTML report headless), GNU parallel (bench sweeps across cores or machines), and clang
-# with its sanitizer and libFuzzer runtimes and the lld linker (scripts/sanitize.sh, scripts/fuzz.sh) are Debian
-# packages too.
+# report and viewer tests open pages headless), Node.js and npm (the viewer's page is bundled at build time), GNU
+# parallel (bench sweeps across cores or machines), and clang with its sanitizer and libFuzzer runtimes and the lld
+# linker (scripts/sanitize.sh, scripts/fuzz.sh) are Debian packages too.
 #
 #   scripts/setup.sh            install + build + run the main job
 #   scripts/setup.sh --no-run   install + build only (used by CI and scripts/test.sh)
@@ -22,15 +22,22 @@ packages=(
   libcli11-dev nlohmann-json3-dev libspdlog-dev libfmt-dev libssl-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   chromium parallel
+  # the viewer's page (web/): npm installs three.js and esbuild at build time
+  nodejs npm
   # the Python module (python/) and its tests and examples
   python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib
   # scripts/sanitize.sh and scripts/fuzz.sh: clang with the sanitizer and libFuzzer runtimes, llvm-symbolizer, lld
   clang-14 libclang-rt-14-dev llvm-14 lld-14
 )
 
+# A package counts as there when an installed package provides it: NodeSource's nodejs provides npm, and
+# Debian's npm conflicts with it.
+provided=" $(dpkg-query -W -f='${Status}|${Provides}\n' 2>/dev/null | sed -n 's/^install ok installed|//p' |
+             tr ',' '\n' | sed 's/([^)]*)//; s/^ *//; s/ *$//' | tr '\n' ' ') "
 missing=()
 for package in "${packages[@]}"; do
-  dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" || missing+=("$package")
+  dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" ||
+    [[ "$provided" == *" $package "* ]] || missing+=("$package")
 done
 if ((${#missing[@]} > 0)); then
   echo "hoidslam setup: installing ${missing[*]}"
