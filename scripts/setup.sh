@@ -19,7 +19,7 @@ run_main_job=1
 packages=(
   build-essential cmake ninja-build pkg-config
   libopencv-dev libeigen3-dev libceres-dev
-  libcli11-dev nlohmann-json3-dev libspdlog-dev libfmt-dev libssl-dev
+  libcli11-dev nlohmann-json3-dev libspdlog-dev libfmt-dev libssl-dev libcpp-httplib-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   chromium parallel
   # the viewer's page (web/): npm installs three.js and esbuild at build time

@@ -31,8 +31,9 @@ std::string Event(std::string_view name, std::string_view data) {
 }  // namespace
 
 std::filesystem::path WebDir() {
+  // The bundle, not index.html: in the build tree ShippedDir is the source folder, whose web/ has the sources only.
   const std::filesystem::path installed = core::ShippedDir() / "web";
-  if (std::filesystem::exists(installed / "index.html")) return installed;
+  if (std::filesystem::exists(installed / "viewer.js")) return installed;
   return HOIDSLAM_BUILD_WEB_DIR;
 }
 
