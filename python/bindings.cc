@@ -378,12 +378,15 @@ filter: none, person, classes, hoid2d, hoid3d, hoidplus[:parts]; "": the setting
 detector: "given" (pass each frame's detections to track), "onnx" (model runs inside), "none".
 realtime: the detector in its own thread; deterministic: byte-identical results on every run.
 load_map: a map file (save_map, hoidslam run --save-map) to start from; localization: track against it unchanged.
+view: a live viewer in the browser (docs/viewer.md): True serves it on port 8787, a number on that port (0: any
+free one); viewer_url says where. view_address: 127.0.0.1 (this machine only), or 0.0.0.0 for every machine.
 Threads may share it: track calls run one at a time (a frame not newer than the last one tracked raises an
 InputError naming timestamp), and trajectory(), keyframes() and map_points() read between two frames.)")
       .def(py::init([](const py::object& settings, const py::object& camera, const py::object& filter,
                        const py::object& detector, const py::object& model, const py::object& realtime,
                        const py::object& deterministic, const py::object& keypoint_budget,
-                       const py::object& vocabulary, const py::object& load_map, const py::object& localization) {
+                       const py::object& vocabulary, const py::object& load_map, const py::object& localization,
+                       const py::object& view, const py::object& view_address) {
              Options options;
              options.settings = PathArgument(settings, "settings");
              if (!camera.is_none()) {
@@ -401,13 +404,21 @@ InputError naming timestamp), and trajectory(), keyframes() and map_points() rea
              options.vocabulary = PathArgument(vocabulary, "vocabulary");
              options.load_map = PathArgument(load_map, "load_map");
              options.localization = ValueArgument<bool>(localization, "localization", "True or False");
+             if (py::isinstance<py::bool_>(view)) {
+               if (view.cast<bool>()) options.view.emplace();
+             } else if (py::isinstance<py::int_>(view)) {
+               options.view.emplace().port = view.cast<int>();
+             } else {
+               throw InputError::ForParameter("view", "must be True, False or a port number, got " + TypeName(view));
+             }
+             if (options.view) options.view->address = ValueArgument<std::string>(view_address, "view_address", "a str");
              py::gil_scoped_release release;  // loading the vocabulary and the model takes a moment
              return System(options);
            }),
            py::kw_only(), py::arg("settings") = py::none(), py::arg("camera") = py::none(), py::arg("filter") = "", py::arg("detector") = "given",
            py::arg("model") = py::none(), py::arg("realtime") = false, py::arg("deterministic") = false,
            py::arg("keypoint_budget") = "static", py::arg("vocabulary") = py::none(), py::arg("load_map") = py::none(),
-           py::arg("localization") = false)
+           py::arg("localization") = false, py::arg("view") = false, py::arg("view_address") = "127.0.0.1")
       .def(
           "track",
           [](System& system, const py::object& rgb, const py::object& depth, const py::object& timestamp,
@@ -471,6 +482,8 @@ Arrays are read in place when their rows hold packed pixels; the GIL is released
       .def_property_readonly("height", &System::height)
       .def_property_readonly("depth_factor", &System::depth_factor, "uint16 depth units per metre")
       .def_property_readonly("filter", &System::filter)
+      .def_property_readonly("viewer_url", &System::ViewerUrl,
+                             "Where the live viewer's page is (http://address:port/); \"\" without view")
       .def("__enter__", [](System& s) -> System& { return s; }, py::return_value_policy::reference)
       .def("__exit__", [](System& s, const py::args&) {
         py::gil_scoped_release release;

@@ -260,3 +260,19 @@ def test_sequence_filter_and_errors_on_their_own(walk):
     groundtruth = sequence.groundtruth()
     assert hoidslam.ate(groundtruth, groundtruth).rmse < 1e-9
     assert hoidslam.rpe(groundtruth, groundtruth, delta=0.5).translation.rmse < 1e-9
+
+
+def test_a_system_asked_to_show_itself_serves_the_viewer(walk):
+    import urllib.request
+
+    sequence = hoidslam.Sequence(walk)
+    detections = hoidslam.DetectionsFile(walk / "detections.jsonl")
+    with hoidslam.System(filter="hoid2d", view=0) as slam:
+        assert slam.viewer_url.startswith("http://127.0.0.1:")
+        for frame in list(sequence)[:5]:
+            slam.track(frame.rgb, frame.depth, frame.timestamp, detections.find(frame.timestamp))
+        with urllib.request.urlopen(slam.viewer_url, timeout=10) as page:
+            assert b"<html" in page.read().lower()
+    assert hoidslam.System().viewer_url == ""
+    with pytest.raises(hoidslam.InputError, match="view"):
+        hoidslam.System(view="yes")

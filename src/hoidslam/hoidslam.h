@@ -141,6 +141,13 @@ struct Options {
   std::filesystem::path load_map;
   // With load_map: track against the loaded map without changing it (no new keyframes, no local mapping).
   bool localization = false;
+  // A live viewer of the session in a browser (docs/viewer.md), served while the System lives: the map, the current
+  // frame with its keypoints kept and dropped, the boxes and their verdicts. nullopt: none (no thread, no copies).
+  struct View {
+    std::string address = "127.0.0.1";  // 0.0.0.0: other machines see the page too
+    int port = 8787;                     // 0: a free port (System::ViewerUrl says which)
+  };
+  std::optional<View> view;
 };
 
 // A camera pose at a time: camera to world, as a row of a TUM trajectory file.
@@ -267,6 +274,8 @@ class System {
   int height() const;
   double depth_factor() const;  // DepthMapFactor: units of uint16 depth per metre
   std::string filter() const;   // the filter mode, as Options::filter names it
+  // Where the viewer's page is (http://address:port/), empty without Options::view.
+  std::string ViewerUrl() const;
 
  private:
   class Impl;

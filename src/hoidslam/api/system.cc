@@ -23,6 +23,7 @@
 #include "hoidslam/pipeline/session.h"
 #include "hoidslam/pipeline/summary_json.h"
 #include "hoidslam/report/html_report.h"
+#include "hoidslam/viewer/viewer.h"
 
 namespace hoidslam {
 namespace {
@@ -210,7 +211,10 @@ class System::Impl {
         run_options_(ToRunOptions(options, settings_)),
         detector_(MakeDetector(options)),
         session_(std::make_unique<pipeline::Session>(run_options_, detector_.get(), std::filesystem::path())),
-        given_(options.detector == DetectorKind::kGiven) {}
+        given_(options.detector == DetectorKind::kGiven),
+        viewer_(MakeViewer(options, run_options_)) {
+    if (viewer_) FollowSession();
+  }
 
   FrameResult Track(const ImageView& rgb, const ImageView& depth, double timestamp,
                     std::span<const Detection> detections, double depth_delay) {
@@ -239,14 +243,24 @@ class System::Impl {
     if (given_) boxes = api::ToCoreDetections(detections, "detections");
     if (index_ == 0) clock_.Restart();
     const pipeline::FrameOutcome& outcome = session_->Track(index_, frame, boxes ? &*boxes : nullptr);
+    if (viewer_) {
+      viewer::FrameSnapshot snapshot = viewer::SnapshotOf(index_, frame, outcome);
+      snapshot.image = snapshot.image.clone();  // it may be the program's memory, which it reuses after Track
+      viewer_->Publish(std::move(snapshot));
+    }
     last_timestamp_ = timestamp;
     frame_log_.push_back(outcome.entry.dump());
     return ToFrameResult(index_++, timestamp, outcome);
   }
 
   void Finish() {
-    if (!session_->finished()) seconds_ = index_ == 0 ? 0.0 : clock_.ElapsedMilliseconds() / 1000.0;
+    if (session_->finished()) return;
+    seconds_ = index_ == 0 ? 0.0 : clock_.ElapsedMilliseconds() / 1000.0;
     session_->Finish();
+    if (viewer_) {
+      viewer_->FinalMap(session_->system().ViewAtlas(), session_->summary().main_map);
+      viewer_->RunFinished();
+    }
   }
 
   // Every file `hoidslam run` writes for a sequence without ground truth, each complete or absent.
@@ -290,14 +304,17 @@ class System::Impl {
 
   // Back to no frames: the session and its maps are dropped (a loaded map is loaded again).
   void Reset() {
-    session_->Finish();
+    Finish();  // the viewer stops reading the session before it goes
     session_.reset();  // its threads stop before the next one's start
     session_ = std::make_unique<pipeline::Session>(run_options_, detector_.get(), std::filesystem::path());
     index_ = 0;
     last_timestamp_ = 0.0;
     seconds_ = 0.0;
     frame_log_.clear();
+    if (viewer_) FollowSession();
   }
+
+  std::string ViewerUrl() const { return viewer_ ? viewer_->url() : std::string(); }
 
   const pipeline::Session& session() const { return *session_; }
   const io::Settings& settings() const { return settings_; }
@@ -308,6 +325,19 @@ class System::Impl {
   std::mutex& mutex() const { return mutex_; }
 
  private:
+  static std::unique_ptr<viewer::Viewer> MakeViewer(const Options& options, const pipeline::RunOptions& run_options) {
+    if (!options.view) return nullptr;
+    viewer::ViewerOptions view;
+    view.address = options.view->address;
+    view.port = options.view->port;
+    // The program gives the frames: the page cannot pause them.
+    return std::make_unique<viewer::Viewer>(view, viewer::ViewerHello{"api", 0, run_options.system.camera}, nullptr);
+  }
+
+  void FollowSession() {
+    viewer_->FollowMap([session = session_.get()] { return session->system().ViewAtlas(); });
+  }
+
   mutable std::mutex mutex_;
   Options options_;
   io::Settings settings_;
@@ -321,6 +351,7 @@ class System::Impl {
   double seconds_ = 0.0;
   // Each frame's line of frames.jsonl, as `hoidslam run` writes it (a few hundred bytes a frame).
   std::vector<std::string> frame_log_;
+  std::unique_ptr<viewer::Viewer> viewer_;  // after the session: it stops reading the session before it goes
 };
 
 System::System(const Options& options) : impl_(std::make_unique<Impl>(options)) {}
@@ -378,5 +409,6 @@ int System::width() const { return impl_->run_options().system.camera.width; }
 int System::height() const { return impl_->run_options().system.camera.height; }
 double System::depth_factor() const { return impl_->settings().depth_map_factor; }
 std::string System::filter() const { return impl_->run_options().exclusion.ModeName(); }
+std::string System::ViewerUrl() const { return impl_->ViewerUrl(); }
 
 }  // namespace hoidslam

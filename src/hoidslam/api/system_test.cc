@@ -24,6 +24,9 @@
 #include "support/temp_dir.h"
 #include "support/text_file.h"
 
+// After Eigen: the server library brings <resolv.h>, whose macro _res would rename a parameter of Eigen's.
+#include <httplib.h>
+
 namespace hoidslam {
 namespace {
 
@@ -214,6 +217,39 @@ TEST(System, ACameraGivenByValuesTakesMillimetreDepthAndTheWrongUnitIsRefused) {
   options.camera->cx = 320.0;
   options.camera->depth_scale = 0.0;
   EXPECT_THAT(ErrorOf([&] { System{options}; }), HasSubstr("parameter camera.depth_scale: must be > 0"));
+}
+
+// The live viewer from a program: a page gets the frames it tracks and, once finished, the map it writes.
+TEST(System, ShowsTheSessionInTheViewerWhenAskedAndOnlyThen) {
+  HOIDSLAM_SHARED_PATH_OR_SKIP(tum_dir, "data/tum");
+  testing::TempDir dir;
+  const std::vector<core::RgbdFrame> frames = RenderedWalk(dir, tum_dir, 20);
+  EXPECT_EQ(System(WithFilter("none")).ViewerUrl(), "");
+  System system(WithFilter("hoid2d", [](Options& o) { o.view.emplace().port = 0; }));
+  const std::string url = system.ViewerUrl();
+  ASSERT_THAT(url, ::testing::StartsWith("http://127.0.0.1:"));
+  for (const core::RgbdFrame& frame : frames) Track(system, frame.rgb, frame.depth, frame.timestamp);
+  system.Finish();
+  nlohmann::json map, frame, status;
+  std::string buffer;
+  httplib::Client client(url.substr(0, url.size() - 1));
+  client.Get("/events", [&](const char* data, std::size_t length) {
+    buffer.append(data, length);
+    for (std::size_t end; (end = buffer.find("\n\n")) != std::string::npos; buffer.erase(0, end + 2)) {
+      const std::string message = buffer.substr(0, end);
+      const std::size_t data_at = message.find("\ndata: ");
+      if (data_at == std::string::npos) continue;
+      const nlohmann::json json = nlohmann::json::parse(message.substr(data_at + 7));
+      if (message.starts_with("event: map")) map = json;
+      if (message.starts_with("event: frame")) frame = json;
+      if (message.starts_with("event: status")) status = json;
+    }
+    return status.is_null();
+  });
+  ASSERT_FALSE(map.is_null());
+  EXPECT_EQ(map["maps"][0]["points"], system.MapPoints().size());
+  EXPECT_EQ(frame["index"], frames.size() - 1);
+  EXPECT_EQ(status["state"], "finished");
 }
 
 // What the command does, from a program: every file of a run folder (read back as `hoidslam report` reads it), a

@@ -125,8 +125,13 @@ class Viewer::Impl {
   }
 
   void FollowMap(std::function<slam::AtlasView()> read) {
-    const std::lock_guard lock(read_mutex_);
-    read_ = std::move(read);
+    {
+      const std::lock_guard lock(read_mutex_);
+      read_ = std::move(read);
+    }
+    const std::lock_guard lock(mutex_);
+    finished_ = false;
+    ++status_sequence_;
   }
 
   void FinalMap(const slam::AtlasView& atlas, slam::MapId main_map) {

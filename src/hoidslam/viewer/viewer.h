@@ -56,8 +56,8 @@ class Viewer {
 
   // The newest frame (latest wins).
   void Publish(FrameSnapshot snapshot);
-  // Reads the map with `read` a few times a second, in the viewer's thread, until FinalMap. `read` must be safe to
-  // call from another thread while the run goes (slam::System::ViewAtlas is).
+  // A run starts: reads its map with `read` a few times a second, in the viewer's thread, until FinalMap. `read`
+  // must be safe to call from another thread while the run goes (slam::System::ViewAtlas is).
   void FollowMap(std::function<slam::AtlasView()> read);
   // The map as the run's outputs have it; `main_map` is the map they write. Stops following; returns when no read
   // is under way, so the object `read` reads may go.
