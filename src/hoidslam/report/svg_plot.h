@@ -31,6 +31,9 @@ struct ChartOptions {
   bool log_y = false;       // line and bar charts: logarithmic value axis; values <= 0 are left out
 };
 
+// Ground truth under estimates: wide and light, so that it shows where an estimate runs on top of it.
+inline constexpr std::string_view kGroundTruthColour = "#bbbbbb";
+
 // The chart colours, colour-blind safe (Okabe and Ito), as "#rrggbb"; `index` wraps around.
 std::string_view PaletteColour(std::size_t index);
 
