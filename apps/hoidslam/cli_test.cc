@@ -37,7 +37,8 @@ using ::testing::StartsWith;
 TEST(Cli, NoCommandIsAnErrorAndHelpIsNot) {
   const testing::TempDir scratch;
   EXPECT_NE(RunHoidslam(scratch, {}).exit_status, 0);
-  for (const char* command : {"bench", "demo", "detect", "eval", "masks", "report", "run", "synth", "vocabulary"}) {
+  for (const char* command :
+       {"bench", "demo", "detect", "eval", "masks", "plot", "report", "run", "synth", "vocabulary"}) {
     const RunResult help = RunHoidslam(scratch, {command, "--help"});
     EXPECT_EQ(help.exit_status, 0) << command;
     EXPECT_THAT(help.out, HasSubstr("Usage")) << command;

@@ -11,6 +11,7 @@ void AddDemoCommand(CLI::App& app);
 void AddDetectCommand(CLI::App& app);
 void AddEvalCommand(CLI::App& app);
 void AddMasksCommand(CLI::App& app);
+void AddPlotCommand(CLI::App& app);
 void AddReportCommand(CLI::App& app);
 void AddRunCommand(CLI::App& app);
 void AddSynthCommand(CLI::App& app);

@@ -78,6 +78,7 @@ int main(int argc, char** argv) {
   hoidslam::apps::AddDetectCommand(app);
   hoidslam::apps::AddEvalCommand(app);
   hoidslam::apps::AddMasksCommand(app);
+  hoidslam::apps::AddPlotCommand(app);
   hoidslam::apps::AddReportCommand(app);
   hoidslam::apps::AddRunCommand(app);
   hoidslam::apps::AddSynthCommand(app);

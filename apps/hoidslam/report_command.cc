@@ -6,7 +6,6 @@
 #include <string>
 
 #include <fmt/format.h>
-#include <spdlog/spdlog.h>
 
 #include "commands.h"
 #include "hoidslam/report/html_report.h"
@@ -24,17 +23,8 @@ struct ReportArgs {
 
 void RunReport(const ReportArgs& args) {
   const fs::path folder = args.run_folder;
-  fs::path groundtruth = args.groundtruth;
-  if (groundtruth.empty()) {
-    groundtruth = report::RecordedGroundTruth(folder);
-    // The run recorded the path as it was given then, possibly relative to another working folder.
-    if (!groundtruth.empty() && !fs::exists(groundtruth)) {
-      spdlog::warn("{}: the ground truth the run was evaluated against is not there; no errors in the report (give "
-                   "--groundtruth)",
-                   groundtruth.string());
-      groundtruth.clear();
-    }
-  }
+  const fs::path groundtruth = args.groundtruth.empty() ? report::RecordedGroundTruthIfPresent(folder, "--groundtruth")
+                                                        : fs::path(args.groundtruth);
   const fs::path out = args.out.empty() ? folder / "report.html" : fs::path(args.out);
   report::WriteRunReport(folder, groundtruth, out);
   fmt::print("wrote {} ({})\n", out.string(),

@@ -21,7 +21,24 @@ std::string StatisticsRow(std::string_view name, const ErrorStatistics& s) {
                      s.median, s.std, s.min, s.max, s.count);
 }
 
+// With the options checked and both files read, what remains to go wrong is how the two files fit together.
+core::InputError BetweenFiles(const std::filesystem::path& groundtruth, const std::filesystem::path& estimate,
+                              const core::InputError& e) {
+  return core::InputError(
+      fmt::format("ground truth {} and estimate {}: {}", groundtruth.string(), estimate.string(), e.what()));
+}
+
 }  // namespace
+
+AteResult ComputeAteOfFiles(const core::Trajectory& groundtruth, const std::filesystem::path& groundtruth_path,
+                            const core::Trajectory& estimate, const std::filesystem::path& estimate_path,
+                            const AteOptions& options) {
+  try {
+    return ComputeAte(groundtruth, estimate, options);
+  } catch (const core::InputError& e) {
+    throw BetweenFiles(groundtruth_path, estimate_path, e);
+  }
+}
 
 Evaluation EvaluateTrajectoryFiles(const std::filesystem::path& groundtruth, const std::filesystem::path& estimate,
                                    const EvaluationOptions& options) {
@@ -31,13 +48,11 @@ Evaluation EvaluateTrajectoryFiles(const std::filesystem::path& groundtruth, con
   const core::Trajectory est = io::ReadTumTrajectory(estimate);
   evaluation.groundtruth_poses = gt.size();
   evaluation.estimate_poses = est.size();
-  // With the options checked and both files read, what remains to go wrong is how the two files fit together.
+  evaluation.ate = ComputeAteOfFiles(gt, groundtruth, est, estimate, options.ate);
   try {
-    evaluation.ate = ComputeAte(gt, est, options.ate);
     evaluation.rpe = ComputeRpe(gt, est, options.rpe);
   } catch (const core::InputError& e) {
-    throw core::InputError(
-        fmt::format("ground truth {} and estimate {}: {}", groundtruth.string(), estimate.string(), e.what()));
+    throw BetweenFiles(groundtruth, estimate, e);
   }
   return evaluation;
 }

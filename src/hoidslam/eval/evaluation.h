@@ -37,6 +37,12 @@ struct Evaluation {
 Evaluation EvaluateTrajectoryFiles(const std::filesystem::path& groundtruth, const std::filesystem::path& estimate,
                                    const EvaluationOptions& options);
 
+// ComputeAte of two trajectories read from the files named, as EvaluateTrajectoryFiles computes it: an InputError
+// about how the two fit together (too few matching stamps) names both files.
+AteResult ComputeAteOfFiles(const core::Trajectory& groundtruth, const std::filesystem::path& groundtruth_path,
+                            const core::Trajectory& estimate, const std::filesystem::path& estimate_path,
+                            const AteOptions& options);
+
 // A table for people: ATE statistics in metres with the number of pairs, RPE translation and rotation per delta.
 std::string FormatEvaluation(const Evaluation& evaluation);
 

@@ -25,7 +25,6 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 using core::InputError;
 
-constexpr std::string_view kGroundTruthColour = "#bbbbbb";
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // ---- Reading ---------------------------------------------------------------------------------------------------
@@ -277,14 +276,6 @@ footer { color: var(--muted); font-size: 12px; margin-top: 36px; border-top: 1px
 }
 )";
 
-std::string Page(std::string_view title, std::string_view body) {
-  return fmt::format(
-      "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
-      "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>{}</title>\n"
-      "<style>{}</style>\n</head>\n<body>\n<main>\n{}</main>\n</body>\n</html>\n",
-      EscapeXml(title), kStyle, body);
-}
-
 bool IsNumber(const std::string& text) {
   if (text.empty()) return false;
   char* end = nullptr;
@@ -320,7 +311,6 @@ double StartTime(const RunReport& report) {
 }
 
 Path3d GroundTruthPath(const GroundTruthComparison& comparison) {
-  // Wide and light under the estimates, so that it shows where an estimate runs on top of it.
   return {"ground truth", comparison.groundtruth, std::string(kGroundTruthColour), 6.0};
 }
 
@@ -629,6 +619,16 @@ fs::path RecordedGroundTruth(const fs::path& run_folder) {
   return fields.Get<std::string>(fields.Object(fields.Object(summary, "evaluation"), "groundtruth"), "path");
 }
 
+fs::path RecordedGroundTruthIfPresent(const fs::path& run_folder, std::string_view option) {
+  fs::path groundtruth = RecordedGroundTruth(run_folder);
+  if (!groundtruth.empty() && !fs::exists(groundtruth)) {
+    spdlog::warn("{}: the ground truth the run {} was evaluated against is not there; no errors for it (give {})",
+                 groundtruth.string(), run_folder.string(), option);
+    groundtruth.clear();
+  }
+  return groundtruth;
+}
+
 std::string RenderRunHtml(const RunReport& report) {
   std::string body = Header(report);
   body += TrajectorySection(report);
@@ -639,7 +639,7 @@ std::string RenderRunHtml(const RunReport& report) {
   body += SnapshotsSection(report);
   body += fmt::format("<footer>Written by <code>hoidslam report</code> from {}.</footer>\n",
                       EscapeXml(report.folder.string()));
-  return Page(fmt::format("{} · {} · hoidslam", report.sequence, report.filter), body);
+  return HtmlPage(fmt::format("{} · {} · hoidslam", report.sequence, report.filter), body);
 }
 
 void WriteRunReport(const fs::path& run_folder, const fs::path& groundtruth, const fs::path& out_html,
@@ -681,7 +681,7 @@ std::string RenderBenchHtml(const std::string& title, const std::vector<std::str
     body += "</section>\n";
   }
   body += "<footer>Written by <code>hoidslam bench</code>.</footer>\n";
-  return Page(title, body);
+  return HtmlPage(title, body);
 }
 
 std::string TrajectoryOverlaySvg(std::span<const RunReport> runs, std::span<const std::string> labels) {
@@ -757,6 +757,14 @@ std::string AteBarChartSvg(const std::vector<std::string>& sequences, const std:
                                           .height = 380,
                                           .log_y = log}};
   return BarChart(sequences, series, options);
+}
+
+std::string HtmlPage(std::string_view title, std::string_view body) {
+  return fmt::format(
+      "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+      "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>{}</title>\n"
+      "<style>{}</style>\n</head>\n<body>\n<main>\n{}</main>\n</body>\n</html>\n",
+      EscapeXml(title), kStyle, body);
 }
 
 std::string Base64Encode(std::string_view bytes) {

@@ -128,6 +128,10 @@ RunReport LoadRunReport(const std::filesystem::path& run_folder, const std::file
 // summary.json is missing or malformed.
 std::filesystem::path RecordedGroundTruth(const std::filesystem::path& run_folder);
 
+// RecordedGroundTruth when that file is still there; else empty, with a warning that the run's ground truth is gone
+// and that `option` gives one (the run recorded the path as it was given, possibly relative to another folder).
+std::filesystem::path RecordedGroundTruthIfPresent(const std::filesystem::path& run_folder, std::string_view option);
+
 // The whole page.
 std::string RenderRunHtml(const RunReport& report);
 
@@ -171,6 +175,9 @@ std::string AteBarChartSvg(const std::vector<std::string>& sequences, const std:
                            const std::vector<std::vector<double>>& ate_m);
 
 // ---- Pieces -------------------------------------------------------------------------------------------------
+
+// A whole page that opens offline: `title` in the tab, the reports' shared style, `body` (markup) in <main>.
+std::string HtmlPage(std::string_view title, std::string_view body);
 
 // RFC 4648 base64 with padding.
 std::string Base64Encode(std::string_view bytes);

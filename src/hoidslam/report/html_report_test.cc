@@ -12,6 +12,7 @@
 
 #include "hoidslam/core/error.h"
 #include "hoidslam/report/test_markup.h"
+#include "support/input_error.h"
 #include "support/temp_dir.h"
 #include "support/text_file.h"
 
@@ -19,6 +20,7 @@ namespace hoidslam::report {
 namespace {
 
 namespace fs = std::filesystem;
+using ::hoidslam::testing::InputErrorOf;
 using ::hoidslam::testing::ReadText;
 using ::hoidslam::testing::TempDir;
 using ::hoidslam::testing::WriteText;
@@ -86,17 +88,6 @@ fs::path WriteRunFolder(const fs::path& folder) {
   const fs::path groundtruth_file = folder.parent_path() / "groundtruth.txt";
   WriteText(groundtruth_file, groundtruth);
   return groundtruth_file;
-}
-
-// The message of the InputError `load` throws.
-template <typename F>
-std::string InputErrorOf(F load) {
-  try {
-    load();
-  } catch (const core::InputError& e) {
-    return e.what();
-  }
-  return "no error";
 }
 
 TEST(Base64Encode, MatchesTheRfc4648TestVectors) {

@@ -1,7 +1,8 @@
 #pragma once
-// Small charts as SVG text, for the HTML reports: a line chart (values over time), a path plot with equal axis
-// scale (a trajectory seen from above) and a bar chart (grouped or stacked). No plotting library: each chart is a
-// few hundred lines of plain SVG that every browser draws and every printer prints.
+// Small charts for the HTML reports and figures: a line chart (values over time), a path plot with equal axis
+// scale (a trajectory seen from above), a path coloured by a value with its colour bar, and a bar chart (grouped or
+// stacked). No plotting library: each chart lays itself out into a Drawing (drawing.h) of plain shapes, written as
+// SVG that every browser draws and every printer prints, or painted into an image (raster.h) for a PNG.
 //
 // Non-finite values are never written: a NaN in a line series breaks the line there, a NaN bar is drawn as a
 // missing mark, and degenerate ranges (one point, all values equal) get a range around the value.
@@ -13,6 +14,8 @@
 #include <vector>
 
 #include <Eigen/Core>
+
+#include "hoidslam/report/drawing.h"
 
 namespace hoidslam::report {
 
@@ -28,11 +31,15 @@ struct ChartOptions {
   bool log_y = false;       // line and bar charts: logarithmic value axis; values <= 0 are left out
 };
 
+// Ground truth under estimates: wide and light, so that it shows where an estimate runs on top of it.
+inline constexpr std::string_view kGroundTruthColour = "#bbbbbb";
+
 // The chart colours, colour-blind safe (Okabe and Ito), as "#rrggbb"; `index` wraps around.
 std::string_view PaletteColour(std::size_t index);
 
-// "&", "<", ">", '"' and "'" as entities: text safe inside SVG/HTML elements and attribute values.
-std::string EscapeXml(std::string_view text);
+// A colour for `fraction` of a sequential scale, as "#rrggbb": dark blue (0) through green to yellow (1), evenly
+// brighter so the order reads in grey and for colour-blind eyes. Outside [0, 1] (and NaN): the nearest end.
+std::string SequentialColour(double fraction);
 
 // One line of a line chart: points (x[i], y[i]); a non-finite x or y breaks the line there.
 struct LineSeries {
@@ -43,7 +50,8 @@ struct LineSeries {
 };
 
 // Axes with round ticks, grid, axis labels, a legend (when any series has a name) and one line per series.
-// A point alone between breaks is drawn as a dot.
+// A point alone between breaks is drawn as a dot. LineChart is its SVG.
+Drawing LineChartDrawing(std::span<const LineSeries> series, const ChartOptions& options);
 std::string LineChart(std::span<const LineSeries> series, const ChartOptions& options);
 
 // One path of a path plot, in world coordinates (metres).
@@ -61,8 +69,29 @@ std::array<int, 2> LargestExtentAxes(std::span<const Eigen::Vector3d> points);
 
 // The paths projected on the world axes LargestExtentAxes(paths[0].points) picks (pass the ground truth first),
 // with one metre as long on both axes; the axis labels name the world axes ("x (m)", "z (m)"); options.x_label
-// and y_label are not used. A dot marks where each path starts.
+// and y_label are not used. A dot marks where each path starts. PathPlot is its SVG.
+Drawing PathPlotDrawing(std::span<const Path3d> paths, const ChartOptions& options);
 std::string PathPlot(std::span<const Path3d> paths, const ChartOptions& options);
+
+// A path whose every step is coloured by a value at its end (an error along a trajectory).
+struct ValuePath {
+  std::string name{};                     // legend entry
+  std::vector<Eigen::Vector3d> points{};
+  std::vector<double> values{};           // one per point; a NaN leaves its step out
+};
+
+// The values the colours of a ValuePath stand for: `low` at the dark end, `high` at the bright end.
+struct ColourScale {
+  double low = 0.0;
+  double high = 1.0;     // > low
+  std::string label{};   // beside the colour bar, e.g. "ATE (m)"
+};
+
+// PathPlotDrawing of `references` (drawn first, the first one picking the view) and `path` on top, its steps in the
+// colours of `scale`, with a colour bar on the right. Several of these with one scale compare at a glance.
+// Throws std::invalid_argument for a path without one value per point, or an empty scale.
+Drawing ValuePathPlotDrawing(std::span<const Path3d> references, const ValuePath& path, const ColourScale& scale,
+                             const ChartOptions& options);
 
 // One series of a bar chart: one value per category; NaN marks a missing value (a failed run).
 struct BarSeries {

@@ -252,5 +252,38 @@ TEST(BarChart, RejectsSeriesWithTheWrongNumberOfValues) {
   EXPECT_THROW(BarChart(categories, bad, {}), std::invalid_argument);
 }
 
+TEST(SequentialColour, RunsFromDarkBlueToYellowAndClampsOutside) {
+  EXPECT_EQ(SequentialColour(0.0), "#440154");
+  EXPECT_EQ(SequentialColour(1.0), "#fde725");
+  EXPECT_EQ(SequentialColour(-3.0), SequentialColour(0.0));
+  EXPECT_EQ(SequentialColour(7.0), SequentialColour(1.0));
+  EXPECT_EQ(SequentialColour(kNaN), SequentialColour(0.0));
+  // Brighter all the way: the sum of the channels grows.
+  const auto brightness = [](const std::string& colour) {
+    return std::stoi(colour.substr(1, 2), nullptr, 16) + std::stoi(colour.substr(3, 2), nullptr, 16) +
+           std::stoi(colour.substr(5, 2), nullptr, 16);
+  };
+  for (int i = 1; i <= 10; ++i) {
+    EXPECT_GT(brightness(SequentialColour(i / 10.0)), brightness(SequentialColour((i - 1) / 10.0))) << i;
+  }
+}
+
+TEST(ValuePathPlot, ColoursEachStepByItsValueOnTheScaleWithAColourBar) {
+  const std::vector<Path3d> references = {{"ground truth", {{0, 0, 0}, {1, 0, 0}, {2, 1, 0}}, "#bbbbbb", 1.5, true}};
+  const ValuePath path{"estimate", {{0, 0.1, 0}, {1, 0.1, 0}, {2, 1.1, 0}}, {0.0, 0.0, 0.2}};
+  const std::string svg =
+      ToSvg(ValuePathPlotDrawing(references, path, {.low = 0.0, .high = 0.2, .label = "ATE (m)"}, {.title = "errors"}));
+  ExpectWellFormed(svg);
+  EXPECT_EQ(PolylinePoints(svg, 1).size(), 2U);  // after the reference: one line a step
+  EXPECT_THAT(svg, HasSubstr("stroke=\"" + SequentialColour(0.0) + "\" stroke-width=\"3.0\""));  // value 0
+  EXPECT_THAT(svg, HasSubstr("stroke=\"" + SequentialColour(1.0) + "\" stroke-width=\"3.0\""));  // value 0.2
+  EXPECT_THAT(svg, HasSubstr(">ATE (m)</text>"));
+  EXPECT_THAT(svg, HasSubstr(">0.20</text>"));  // the colour bar's top tick
+  EXPECT_THAT(svg, HasSubstr(">estimate</text>"));
+  const ValuePath uneven{"bad", {{0, 0, 0}}, {}};
+  EXPECT_THROW(ValuePathPlotDrawing(references, uneven, {}, {}), std::invalid_argument);
+  EXPECT_THROW(ValuePathPlotDrawing(references, path, {.low = 1.0, .high = 1.0}, {}), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace hoidslam::report::svg_plot_test
