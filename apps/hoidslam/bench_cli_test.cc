@@ -195,5 +195,24 @@ TEST(CliBench, ANamedRecordingAndRandomSequencesArePlannedLikeTheOthers) {
   EXPECT_EQ(count, 6);
 }
 
+// The demo on a short stretch of its scenario: several runs of each mode, the medians with the frames tracked, a
+// sentence on what they show and a verdict on the default, and where to watch a run live.
+TEST(CliDemo, PrintsEachModesMedianBesideTheFramesTrackedAndSaysWhatItShows) {
+  HOIDSLAM_SHARED_PATH_OR_SKIP(tum_dir, "data/tum");
+  const testing::TempDir scratch;
+  const RunResult demo = RunHoidslam(scratch, {"demo", "--frames", "30", "--frame-step", "6", "--runs", "2",
+                                               "--jobs", "2", "--out", (scratch / "demo").string()});
+  ASSERT_EQ(demo.exit_status, 0) << demo.err;
+  EXPECT_THAT(demo.out, HasSubstr("| crowd | "));
+  EXPECT_THAT(demo.out, HasSubstr("/30 tracked)"));
+  EXPECT_THAT(demo.out, HasSubstr("What you are looking at: in crowd, people walk up to the camera"));
+  EXPECT_THAT(demo.out, ::testing::ContainsRegex("Without a filter, .* [0-9.]+ mm with [0-9]+ of 30 frames tracked "
+                                                 "\\(median of 2 runs\\)"));
+  EXPECT_THAT(demo.out, ::testing::ContainsRegex("The default is (the most accurate|within the spread)|Here the "
+                                                 "default is not the most accurate"));
+  EXPECT_THAT(demo.out, HasSubstr("Watch it live: "));
+  EXPECT_TRUE(fs::exists(scratch / "demo" / "report.html"));
+}
+
 }  // namespace
 }  // namespace hoidslam::apps
