@@ -15,6 +15,10 @@ const CURRENT_CAMERA_DEPTH = 0.12; // metres: twice a keyframe's, so the camera 
 const CURRENT_CAMERA_WIDTH = 3; // pixels
 // Where the view starts, from the point it looks at: above (−y) and behind (−z) a camera at that point.
 const VIEW_OFFSET = new Vector3(0, -1.2, -2.2);
+// What the run changes (the camera, the map) is drawn at most this often: rendering the scene is the page's
+// dearest work, done on the CPU where there is no GPU, and the frame panel beside it should keep the run's pace.
+// A person turning the view is answered at once.
+const RUN_RENDER_INTERVAL_MS = 100;
 // The whole-map view ignores the outermost points on each axis: a few stray points would shrink the rest.
 const WHOLE_MAP_QUANTILE = 0.02;
 
@@ -55,6 +59,9 @@ export class MapView {
     this.lastPose = null; // the last tracked pose, drawn greyed while tracking is lost
     this.poseChanged = false;
     this.needsRender = true;
+    this.viewTurned = false; // the person moved the view: render now, whatever the interval
+    this.following = false;
+    this.lastRender = -Infinity;
     this.renderer = this.createRenderer();
   }
 
@@ -109,8 +116,11 @@ export class MapView {
     this.stats.set('points', this.pointCloud.countOfMap(this.mainMap));
     this.stats.set('keyframes', this.keyframeGraph.countOfMap(this.mainMap));
     this.stats.set('maps', this.maps.length);
-    if (this.needsRender && this.renderer) {
+    const now = performance.now();
+    if (this.needsRender && this.renderer && (this.viewTurned || now - this.lastRender >= RUN_RENDER_INTERVAL_MS)) {
       this.needsRender = false;
+      this.viewTurned = false;
+      this.lastRender = now;
       this.renderer.render(this.scene, this.viewCamera);
     }
   }
@@ -129,7 +139,9 @@ export class MapView {
       const offset = this.viewCamera.position.clone().sub(this.controls.target);
       this.controls.target.fromArray(cameraCentre(pose));
       this.viewCamera.position.copy(this.controls.target).add(offset);
+      this.following = true; // the controls' change event is then the run's, not the person's
       this.controls.update();
+      this.following = false;
     }
   }
 
@@ -161,7 +173,10 @@ export class MapView {
     renderer.setPixelRatio(window.devicePixelRatio);
     this.host.append(renderer.domElement);
     this.controls = new OrbitControls(this.viewCamera, renderer.domElement);
-    this.controls.addEventListener('change', () => { this.needsRender = true; });
+    this.controls.addEventListener('change', () => {
+      this.needsRender = true;
+      if (!this.following) this.viewTurned = true;
+    });
     new ResizeObserver(() => this.resize(renderer)).observe(this.host);
     return renderer;
   }

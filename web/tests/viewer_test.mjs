@@ -20,6 +20,8 @@ const USAGE = 'usage: node viewer_test.mjs --hoidslam BIN --out RUN_FOLDER [--cl
 const POLL_MS = 250;
 const SETTLE_MS = 1500; // the map counts must stay the same this long after the run finished
 const UPDATES_BEFORE_CLOSING = 5;
+// The emulated GPU driver's note on its own speed (see launchBrowser): the browser's, not the page's.
+const DRIVER_PERFORMANCE_NOTE = /^\[\.WebGL-[0-9a-fx]+\]GL Driver Message \(OpenGL, Performance, .*\): GPU stall due to ReadPixels/;
 
 const failures = [];
 const fail = (message) => failures.push(message);
@@ -74,9 +76,11 @@ function startRun(options) {
 async function launchBrowser(options) {
   currentStep = 'starting Chromium';
   const { chromium } = createRequire(import.meta.url)(path.resolve(options.playwright));
-  // WebGL on ANGLE's SwiftShader, on the CPU: a test machine has no GPU, and Chromium's default route there warns
-  // "GPU stall due to ReadPixels" on the console of every WebGL page.
-  const args = ['--use-angle=swiftshader'];
+  // A test machine has no GPU: WebGL runs on ANGLE's SwiftShader, on the CPU, and the page is composited in software
+  // (through the GPU process emulated on the CPU, a 2-core machine composits some 7 frames a second; in software
+  // over 20). The emulated driver then says "GPU stall due to ReadPixels" on the console when the WebGL canvas is
+  // composited (DRIVER_PERFORMANCE_NOTE below).
+  const args = ['--use-angle=swiftshader', '--disable-gpu-compositing'];
   if (process.getuid?.() === 0) args.push('--no-sandbox'); // Chromium's sandbox refuses to run as root
   browser = await chromium.launch({ executablePath: options.chromium, headless: true, args, timeout: 30_000 });
   return browser;
@@ -88,6 +92,7 @@ async function openPage(address) {
   const page = await browser.newPage({ viewport: { width: 1400, height: 850 } });
   page.problems = [];
   page.on('console', (message) => {
+    if (message.type() === 'warning' && DRIVER_PERFORMANCE_NOTE.test(message.text())) return;
     if (['error', 'warning'].includes(message.type())) page.problems.push(`console ${message.type()}: ${message.text()}`);
   });
   page.on('pageerror', (error) => page.problems.push(`uncaught exception: ${error.message}`));
