@@ -690,7 +690,7 @@ TEST(CliReport, NamesWhatIsMissing) {
 }
 
 // The whole way a user goes: render, run, report, and look at the page in a real browser.
-TEST(CliReport, TheReportOfARunShowsItsChartsInABrowser) {
+TEST(CliReport, TheReportOfARunShowsItsChartsAndMapInABrowser) {
   const testing::TempDir scratch;
   const fs::path sequence = Render(scratch, "walking_xyz", ThinnedUnderSanitizers({120, 2}));
   const fs::path run = scratch / "run";
@@ -713,15 +713,33 @@ TEST(CliReport, TheReportOfARunShowsItsChartsInABrowser) {
   cv::meanStdDev(shot, mean, deviation);
   EXPECT_GT(deviation[0], 20.0);
   EXPECT_GT(DistinctColours(shot), 50U);
-  // The trajectory plot: the ground truth's wide light grey line (html_report.cc, kGroundTruthColour), and on it
-  // the aligned estimate in the first chart colour (PaletteColour(0)). Lines at least two pixels wide only, not
-  // the grey edges of anti-aliased text.
-  cv::Mat groundtruth = ColourMask(shot, "#bbbbbb", 4);
+  // The map section below the trajectory: the first row mostly of the viewer page's dark background (viewer.css).
+  const cv::Mat viewer_background = ColourMask(shot, "#0f1216", 2);
+  int map_top = 0;
+  while (map_top < shot.rows && cv::countNonZero(viewer_background.row(map_top)) < shot.cols / 2) ++map_top;
+  ASSERT_LT(map_top, shot.rows) << "no map section on the page";
+  // The trajectory plot, above the map (whose points may have any colour): the ground truth's wide light grey line
+  // (html_report.cc, kGroundTruthColour), and on it the aligned estimate in the first chart colour
+  // (PaletteColour(0)). Lines at least two pixels wide only, not the grey edges of anti-aliased text.
+  const cv::Mat above_map = shot.rowRange(0, map_top);
+  cv::Mat groundtruth = ColourMask(above_map, "#bbbbbb", 4);
   cv::erode(groundtruth, groundtruth, cv::Mat::ones(2, 2, CV_8U));
   ASSERT_GT(cv::countNonZero(groundtruth), 50);
   const cv::Rect plot = cv::boundingRect(groundtruth);
   EXPECT_LT(plot.area(), shot.size().area() / 4) << plot;  // one figure, not grey all over the page
-  EXPECT_GT(cv::countNonZero(ColourMask(shot(plot), "#0072B2", 12)), 200) << plot;
+  EXPECT_GT(cv::countNonZero(ColourMask(above_map(plot), "#0072B2", 12)), 200) << plot;
+
+  // The map section: the viewer's page inlined with the run's map, asking for nothing, showing every point of
+  // map.ply and every keyframe of keyframes.txt, not blank (web/tests/viewer_test.mjs --report).
+  const std::string page = ReadText(html);
+  EXPECT_THAT(page, HasSubstr(R"(<div id="hoidslam-viewer"></div>)"));
+  EXPECT_THAT(page, HasSubstr(R"(<script id="hoidslam-data" type="application/json">)"));
+  EXPECT_THAT(page, Not(HasSubstr("<script src")));
+  const RunResult browser = RunPageTest(scratch, {"--report", html.string(), "--out", run.string(), "--screenshot",
+                                                  (scratch / "map.png").string()});
+  EXPECT_EQ(browser.exit_status, 0) << browser.out << browser.err;
+  EXPECT_THAT(browser.out, HasSubstr("ok: stat-points (main map) against map.ply"));
+  EXPECT_THAT(browser.out, HasSubstr("report test passed"));
 
   // Ground truth that cannot be read: one error naming it, and no page.
   const RunResult bad = RunHoidslam(scratch, {"report", run.string(), "--groundtruth", (scratch / "gt.txt").string(),

@@ -76,6 +76,13 @@ fs::path Render(const testing::TempDir& scratch, const std::string& scenario, St
 
 nlohmann::json Summary(const fs::path& out) { return nlohmann::json::parse(testing::ReadText(out / "summary.json")); }
 
+RunResult RunPageTest(const testing::TempDir& scratch, const std::vector<std::string>& arguments) {
+  std::vector<std::string> argv = {HOIDSLAM_NODE, HOIDSLAM_WEB_TEST_DRIVER, "--playwright", HOIDSLAM_PLAYWRIGHT_DIR,
+                                   "--timeout", "600"};
+  argv.insert(argv.end(), arguments.begin(), arguments.end());
+  return RunProgram(scratch, argv);
+}
+
 cv::Mat ChromiumScreenshot(const testing::TempDir& scratch, const fs::path& html, cv::Size window) {
   const std::string chromium = HOIDSLAM_CHROMIUM;
   if (chromium.empty()) {

@@ -55,6 +55,10 @@ std::filesystem::path Render(const testing::TempDir& scratch, const std::string&
 // The summary.json of a run folder.
 nlohmann::json Summary(const std::filesystem::path& out);
 
+// The browser test of the viewer's page (web/tests/viewer_test.mjs, docs/viewer.md), run by Node.js with `arguments`
+// and the build's playwright-core, within 600 s.
+RunResult RunPageTest(const testing::TempDir& scratch, const std::vector<std::string>& arguments);
+
 // A screenshot of the page `html` as headless Chromium renders it in a window of `window` pixels (the browser found
 // when the build was configured). Without a browser, or when it fails, adds a test failure that says why and
 // returns an empty image.

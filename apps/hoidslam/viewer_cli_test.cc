@@ -19,12 +19,10 @@ namespace fs = std::filesystem;
 
 // The browser test's verdict on a run of `sequence`; `more` goes to the test before the run's own arguments.
 RunResult DriveViewer(const testing::TempDir& scratch, const fs::path& sequence, const std::vector<std::string>& more) {
-  std::vector<std::string> argv = {HOIDSLAM_NODE, HOIDSLAM_WEB_TEST_DRIVER, "--hoidslam", HOIDSLAM_BINARY,
-                                   "--out", (scratch / "run").string(), "--playwright", HOIDSLAM_PLAYWRIGHT_DIR,
-                                   "--timeout", "600"};
-  argv.insert(argv.end(), more.begin(), more.end());
-  argv.insert(argv.end(), {"--", sequence.string(), "--force"});
-  return RunProgram(scratch, argv);
+  std::vector<std::string> arguments = {"--hoidslam", HOIDSLAM_BINARY, "--out", (scratch / "run").string()};
+  arguments.insert(arguments.end(), more.begin(), more.end());
+  arguments.insert(arguments.end(), {"--", sequence.string(), "--force"});
+  return RunPageTest(scratch, arguments);
 }
 
 TEST(CliView, ThePageShowsTheMapAndTheFrameTheRunWrites) {

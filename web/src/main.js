@@ -1,6 +1,7 @@
 // hoidslam's viewer page: builds the panels, feeds them the run's messages (live, or embedded by a report), and
 // draws once per animation frame. Messages only store what they bring; drawing reads the newest of it, so a busy
-// tab skips frames instead of queueing them.
+// tab skips frames instead of queueing them. Embedded data without a frame (a run report's map) gets the map panel
+// alone: there is no frame to show.
 import './viewer.css';
 import { connectToRun, readEmbeddedData, replayEmbedded } from './connection.js';
 import { PlaybackControls } from './controls.js';
@@ -19,17 +20,19 @@ function start() {
   root.append(header, statsLine, panels);
 
   const embedded = readEmbeddedData();
-  const stats = new Stats(statsLine);
+  const showsFrames = !embedded || Boolean(embedded.frame);
+  const stats = new Stats(statsLine, { frames: showsFrames });
   const controls = new PlaybackControls(header, stats);
   const mapView = new MapView(panels, stats, { follow: !embedded });
-  const framePanel = new FramePanel(panels, stats);
+  const framePanel = showsFrames ? new FramePanel(panels, stats) : null;
+  panels.classList.toggle('map-only', !framePanel);
 
   const handlers = {
     hello(hello) {
       setText(title, `hoidslam · ${hello.sequence} · ${hello.version}`);
-      document.title = `hoidslam · ${hello.sequence}`;
+      if (!embedded) document.title = `hoidslam · ${hello.sequence}`; // a report keeps its own title
       mapView.setCamera(hello.camera);
-      framePanel.setTotalFrames(hello.total_frames);
+      framePanel?.setTotalFrames(hello.total_frames);
       controls.setControllable(hello.controllable && !embedded);
     },
     map: (map) => mapView.applyMap(map),
@@ -49,7 +52,7 @@ function start() {
 
   const drawLoop = () => {
     mapView.draw();
-    framePanel.draw();
+    framePanel?.draw();
     controls.draw();
     requestAnimationFrame(drawLoop);
   };

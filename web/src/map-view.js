@@ -54,7 +54,7 @@ export class MapView {
 
     this.mainMap = 0;
     this.maps = [];
-    this.mapsChanged = true;
+    this.legendChanged = true;
     this.pose = null; // the newest frame's T_wc; null while not tracked
     this.lastPose = null; // the last tracked pose, drawn greyed while tracking is lost
     this.poseChanged = false;
@@ -84,13 +84,14 @@ export class MapView {
     this.mainMap = message.main_map;
     this.pointCloud.setMainMap(message.main_map);
     this.maps = message.maps ?? this.maps;
-    this.mapsChanged = true;
+    this.legendChanged = true;
     this.needsRender = true;
   }
 
   /** The newest frame's pose (null when it was not tracked). */
   setCurrentPose(T_wc) {
     this.pose = T_wc;
+    if (T_wc && !this.lastPose) this.legendChanged = true; // the current camera joins the legend
     if (T_wc) this.lastPose = T_wc;
     this.poseChanged = true;
   }
@@ -112,7 +113,7 @@ export class MapView {
   draw() {
     if (this.keyframeGraph.rebuild()) this.needsRender = true;
     if (this.poseChanged) this.drawCurrentCamera();
-    if (this.mapsChanged) this.drawLegend();
+    if (this.legendChanged) this.drawLegend();
     this.stats.set('points', this.pointCloud.countOfMap(this.mainMap));
     this.stats.set('keyframes', this.keyframeGraph.countOfMap(this.mainMap));
     this.stats.set('maps', this.maps.length);
@@ -146,17 +147,15 @@ export class MapView {
   }
 
   drawLegend() {
-    this.mapsChanged = false;
+    this.legendChanged = false;
     const mapItems = this.maps.map(({ id, keyframes, points }) => {
       const name = `map ${id}${id === this.mainMap ? ' (main)' : ''}`;
       return legendItem(cssColour(mapColour(id)),
         `${name}: ${formatCount(keyframes)} keyframes, ${formatCount(points)} points`);
     });
-    this.legend.replaceChildren(
-      ...mapItems,
-      legendItem(cssColour(CURRENT_CAMERA_COLOUR), 'current camera'),
-      legendItem(cssColour(LOOP_EDGE_COLOUR), 'loop edge'),
-    );
+    // No current camera before the first tracked frame, nor in a report's map, which has no frames.
+    const cameraItems = this.lastPose ? [legendItem(cssColour(CURRENT_CAMERA_COLOUR), 'current camera')] : [];
+    this.legend.replaceChildren(...mapItems, ...cameraItems, legendItem(cssColour(LOOP_EDGE_COLOUR), 'loop edge'));
   }
 
   /** The renderer and its controls; without WebGL the panel says so and the rest of the page still works. */

@@ -3,24 +3,26 @@
 // (docs/viewer.md, "What a test reads from the page").
 import { element, setText, formatCount } from './dom.js';
 
+// `frame`: a number of the frame panel, left out of a page without one.
 const STATS = [
-  { name: 'frame', label: 'frame' },
-  { name: 'state', label: 'tracking' },
-  { name: 'kept', label: 'kept', count: true },
-  { name: 'dropped', label: 'dropped', count: true },
+  { name: 'frame', label: 'frame', frame: true },
+  { name: 'state', label: 'tracking', frame: true },
+  { name: 'kept', label: 'kept', count: true, frame: true },
+  { name: 'dropped', label: 'dropped', count: true, frame: true },
   { name: 'points', label: 'points', count: true, title: 'points of the main map' },
   { name: 'keyframes', label: 'keyframes', count: true, title: 'keyframes of the main map' },
   { name: 'maps', label: 'maps' },
   { name: 'run', label: 'run' },
-  { name: 'updates', label: 'frames drawn', count: true },
+  { name: 'updates', label: 'frames drawn', count: true, frame: true },
 ];
 
 export class Stats {
-  constructor(parent) {
+  /** `frames`: whether the page has a frame panel to fill the frame's numbers. */
+  constructor(parent, { frames }) {
     this.values = {};
     this.valueElements = new Map();
     const list = element('dl', { className: 'stats' });
-    for (const stat of STATS) {
+    for (const stat of STATS.filter((s) => frames || !s.frame)) {
       const value = element('dd', { text: '–' });
       value.id = `stat-${stat.name}`;
       value.dataset.value = '';

@@ -1,22 +1,30 @@
 #!/usr/bin/env node
-// The live viewer's browser test: starts `hoidslam run … --view`, opens the page in headless Chromium and checks
-// what it shows against the files the run wrote (docs/viewer.md, "The browser test").
+// The viewer page's browser test: starts `hoidslam run … --view`, opens the page in headless Chromium and checks
+// what it shows against the files the run wrote (docs/viewer.md, "The browser test"); or opens a run report and
+// checks the same page inlined in it.
 //
 //   node viewer_test.mjs --hoidslam BIN --out RUN_FOLDER [--close-tab-midway] [--playwright DIR]
 //                        [--chromium PATH] [--screenshot PNG] [--timeout SECONDS] -- <hoidslam run arguments>
+//   node viewer_test.mjs --report REPORT_HTML --out RUN_FOLDER [--playwright DIR] [--chromium PATH]
+//                        [--screenshot PNG] [--timeout SECONDS]
 //
 // Default: the run keeps serving once finished (--view-keep); the page must log no error or warning and ask for
 // nothing outside 127.0.0.1, and its numbers must match map.ply, keyframes.txt and frames.jsonl; the screenshot
 // must not be blank; SIGINT must end the run with status 0.
 // --close-tab-midway: the page is closed while the run goes, and the run must finish and exit 0 by itself.
+// --report: the report of the run folder, opened from its file, must ask for nothing at all and log no error or
+// warning; its map must show the points of map.ply and the keyframes of keyframes.txt, and must not be blank.
 // playwright-core comes from --playwright DIR or $HOIDSLAM_PLAYWRIGHT (the build's web-node/node_modules/playwright-core).
 import { spawn } from 'node:child_process';
 import fs from 'node:fs';
 import { createRequire } from 'node:module';
 import path from 'node:path';
+import { pathToFileURL } from 'node:url';
 
 const USAGE = 'usage: node viewer_test.mjs --hoidslam BIN --out RUN_FOLDER [--close-tab-midway] [--playwright DIR] ' +
-  '[--chromium PATH] [--screenshot PNG] [--timeout SECONDS] -- <hoidslam run arguments>';
+  '[--chromium PATH] [--screenshot PNG] [--timeout SECONDS] -- <hoidslam run arguments>\n' +
+  '   or: node viewer_test.mjs --report REPORT_HTML --out RUN_FOLDER [--playwright DIR] [--chromium PATH] ' +
+  '[--screenshot PNG] [--timeout SECONDS]';
 const POLL_MS = 250;
 const SETTLE_MS = 1500; // the map counts must stay the same this long after the run finished
 const UPDATES_BEFORE_CLOSING = 5;
@@ -28,27 +36,30 @@ const fail = (message) => failures.push(message);
 let run = null;
 let browser = null;
 let currentStep = 'starting'; // what the test was doing, for the message when it times out
+let tested = 'viewer'; // or 'report', for the closing line
 
 function parseArguments(argv) {
   const split = argv.indexOf('--');
   const own = split < 0 ? argv : argv.slice(0, split);
   const options = {
-    hoidslam: null, out: null, closeTabMidway: false, timeoutSeconds: 120,
+    hoidslam: null, report: null, out: null, closeTabMidway: false, timeoutSeconds: 120,
     playwright: process.env.HOIDSLAM_PLAYWRIGHT ?? null, chromium: '/usr/bin/chromium', screenshot: null,
     runArguments: split < 0 ? [] : argv.slice(split + 1),
   };
-  const valued = { '--hoidslam': 'hoidslam', '--out': 'out', '--playwright': 'playwright', '--chromium': 'chromium',
-    '--screenshot': 'screenshot', '--timeout': 'timeoutSeconds' };
+  const valued = { '--hoidslam': 'hoidslam', '--report': 'report', '--out': 'out', '--playwright': 'playwright',
+    '--chromium': 'chromium', '--screenshot': 'screenshot', '--timeout': 'timeoutSeconds' };
   for (let i = 0; i < own.length; i += 1) {
     if (own[i] === '--close-tab-midway') options.closeTabMidway = true;
     else if (valued[own[i]] && i + 1 < own.length) options[valued[own[i]]] = own[++i];
     else throw new Error(`unknown argument ${own[i]}\n${USAGE}`);
   }
-  for (const [name, value] of [['--hoidslam', options.hoidslam], ['--out', options.out], ['--playwright', options.playwright]]) {
+  const required = [['--out', options.out], ['--playwright', options.playwright]];
+  if (!options.report) required.push(['--hoidslam', options.hoidslam]);
+  for (const [name, value] of required) {
     if (!value) throw new Error(`${name} is missing${name === '--playwright' ? ' (or $HOIDSLAM_PLAYWRIGHT)' : ''}\n${USAGE}`);
   }
   options.timeoutSeconds = Number(options.timeoutSeconds);
-  options.screenshot ??= path.join(options.out, 'viewer.png');
+  options.screenshot ??= path.join(options.out, options.report ? 'report-map.png' : 'viewer.png');
   return options;
 }
 
@@ -86,8 +97,11 @@ async function launchBrowser(options) {
   return browser;
 }
 
-/** Opens the page, noting every console error or warning and every request that leaves 127.0.0.1. */
-async function openPage(address) {
+/**
+ * Opens the page, noting every console error or warning and every request `allowed` (given the request's URL)
+ * refuses; `allowedWhat` says what is allowed, for the message.
+ */
+async function openPage(address, allowed, allowedWhat) {
   currentStep = `opening ${address}`;
   const page = await browser.newPage({ viewport: { width: 1400, height: 850 } });
   page.problems = [];
@@ -98,8 +112,8 @@ async function openPage(address) {
   page.on('pageerror', (error) => page.problems.push(`uncaught exception: ${error.message}`));
   page.on('request', (request) => {
     const url = new URL(request.url());
-    if (!['data:', 'blob:'].includes(url.protocol) && url.hostname !== '127.0.0.1') {
-      page.problems.push(`request outside 127.0.0.1: ${request.url()}`);
+    if (!['data:', 'blob:'].includes(url.protocol) && !allowed(url)) {
+      page.problems.push(`request for ${request.url()}, ${allowedWhat}`);
     }
   });
   await page.goto(address, { timeout: 30_000 });
@@ -206,12 +220,29 @@ function checkEqual(what, shown, expected) {
   else console.log(`ok: ${what} = ${expected}`);
 }
 
+/** stat-points and stat-keyframes against the main map the run wrote into `folder`. */
+function checkMapCounts(stats, folder) {
+  checkEqual('stat-points (main map) against map.ply', stats.points, plyVertexCount(path.join(folder, 'map.ply')));
+  checkEqual('stat-keyframes (main map) against keyframes.txt', stats.keyframes,
+    trajectoryLineCount(path.join(folder, 'keyframes.txt')));
+}
+
+/** Takes the screenshot of `shown` (the page, or a locator of its part) and fails when it or the map is blank. */
+async function checkPictures(page, shown, screenshotPath) {
+  currentStep = 'taking screenshots';
+  const screenshot = await shown.screenshot({ path: screenshotPath, timeout: 30_000 });
+  const whole = await pictureContent(screenshot);
+  const map = await pictureContent(await page.locator('.map-panel').screenshot({ timeout: 30_000 }));
+  console.log(`screenshot ${screenshotPath}: ${whole.colours} colours; the map panel has ` +
+    `${(100 * map.foreground).toFixed(1)} % of its pixels drawn`);
+  if (whole.colours < 100) fail(`the screenshot ${screenshotPath} is blank (${whole.colours} colours)`);
+  if (map.foreground < 0.002) fail(`the map panel is blank (${(100 * map.foreground).toFixed(2)} % of its pixels drawn)`);
+}
+
 async function checkFinishedRun(page, options, deadline) {
   await waitForFinish(page, deadline - Date.now());
   const stats = await waitForSettledStats(page, deadline - Date.now());
-  checkEqual('stat-points (main map) against map.ply', stats.points, plyVertexCount(path.join(options.out, 'map.ply')));
-  checkEqual('stat-keyframes (main map) against keyframes.txt', stats.keyframes,
-    trajectoryLineCount(path.join(options.out, 'keyframes.txt')));
+  checkMapCounts(stats, options.out);
   const entry = frameLogLine(path.join(options.out, 'frames.jsonl'), Number(stats.frame));
   if (!entry) {
     fail(`frames.jsonl has no line for the frame the page shows (stat-frame ${stats.frame})`);
@@ -223,14 +254,7 @@ async function checkFinishedRun(page, options, deadline) {
 
   failures.push(...page.problems);
   page.problems = []; // what the page logs once the run is interrupted is not the page's doing
-  currentStep = 'taking screenshots';
-  const screenshot = await page.screenshot({ path: options.screenshot, timeout: 30_000 });
-  const whole = await pictureContent(screenshot);
-  const map = await pictureContent(await page.locator('.map-panel').screenshot({ timeout: 30_000 }));
-  console.log(`screenshot ${options.screenshot}: ${whole.colours} colours; the map panel has ` +
-    `${(100 * map.foreground).toFixed(1)} % of its pixels drawn`);
-  if (whole.colours < 100) fail(`the screenshot ${options.screenshot} is blank (${whole.colours} colours)`);
-  if (map.foreground < 0.002) fail(`the map panel is blank (${(100 * map.foreground).toFixed(2)} % of its pixels drawn)`);
+  await checkPictures(page, page, options.screenshot);
 
   run.kill('SIGINT');
   const exit = await withTimeout(run.exited, 30_000, 'the run to exit after SIGINT');
@@ -266,17 +290,34 @@ async function cleanUp() {
   if (browser) await withTimeout(browser.close(), 10_000, 'the browser to close').catch(() => {});
 }
 
+/** The report's map section: the page inlined in a file, with the run's map as its data and no run to talk to. */
+async function checkReport(options, deadline) {
+  await launchBrowser(options);
+  const address = pathToFileURL(path.resolve(options.report)).href;
+  const page = await openPage(address, (url) => url.href === address, 'a report must ask for nothing');
+  const stats = await waitForSettledStats(page, deadline - Date.now());
+  checkMapCounts(stats, options.out);
+  checkEqual('stat-run', stats.run, 'finished');
+  await checkPictures(page, page.locator('#hoidslam-viewer'), options.screenshot);
+  failures.push(...page.problems);
+}
+
 async function test(options, deadline) {
+  if (options.report) {
+    await checkReport(options, deadline);
+    return;
+  }
   const address = await startRun(options);
   console.log(`viewer at ${address}`);
   await launchBrowser(options);
-  const page = await openPage(address);
+  const page = await openPage(address, (url) => url.hostname === '127.0.0.1', 'outside 127.0.0.1');
   if (options.closeTabMidway) await checkTabClosedMidway(page, options, deadline);
   else await checkFinishedRun(page, options, deadline);
 }
 
 async function main() {
   const options = parseArguments(process.argv.slice(2));
+  if (options.report) tested = 'report';
   // A hang anywhere fails the test: the whole test has one deadline, and says what it was waiting for.
   const deadline = Date.now() + options.timeoutSeconds * 1000;
   let timer;
@@ -303,5 +344,5 @@ if (failures.length > 0) {
   if (run?.output) console.log(`the run's output:\n${run.output.trimEnd()}`);
   process.exit(1);
 }
-console.log('viewer test passed');
+console.log(`${tested} test passed`);
 process.exit(0);

@@ -36,4 +36,11 @@ std::filesystem::path ShippedDir() {
   return HOIDSLAM_SOURCE_DIR;
 }
 
+std::filesystem::path WebDir() {
+  // The bundle, not index.html: in the build tree ShippedDir is the source folder, whose web/ has the sources only.
+  const std::filesystem::path installed = ShippedDir() / "web";
+  if (std::filesystem::exists(installed / "viewer.js")) return installed;
+  return HOIDSLAM_BUILD_WEB_DIR;
+}
+
 }  // namespace hoidslam::core

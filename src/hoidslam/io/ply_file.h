@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <span>
+#include <vector>
 
 #include <Eigen/Core>
 #include <opencv2/core/matx.hpp>
@@ -17,5 +18,9 @@ struct ColoredPoint {
 
 // Writes atomically (complete or absent).
 void WritePly(const std::filesystem::path& path, std::span<const ColoredPoint> points);
+
+// Reads a file as WritePly writes it (the run's map.ply), points in file order. Throws InputError naming the file
+// when it cannot be read, has another layout, or holds fewer or more bytes than its header says.
+std::vector<ColoredPoint> ReadPly(const std::filesystem::path& path);
 
 }  // namespace hoidslam::io

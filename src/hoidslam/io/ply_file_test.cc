@@ -6,9 +6,12 @@
 #include <string>
 #include <vector>
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "support/input_error.h"
 #include "support/temp_dir.h"
+#include "support/text_file.h"
 
 namespace hoidslam::io {
 namespace {
@@ -49,6 +52,37 @@ TEST(WritePly, EmptyCloudIsAValidFile) {
   std::stringstream buffer;
   buffer << in.rdbuf();
   EXPECT_NE(buffer.str().find("element vertex 0\n"), std::string::npos);
+}
+
+TEST(ReadPly, ReadsWhatWritePlyWroteInOrder) {
+  testing::TempDir dir;
+  const std::vector<ColoredPoint> points = {{{1.0, -2.0, 3.5}, {10, 20, 30}}, {{0.25, 0.5, -0.75}, {255, 0, 128}}};
+  WritePly(dir / "map.ply", points);
+  const std::vector<ColoredPoint> read = ReadPly(dir / "map.ply");
+  ASSERT_EQ(read.size(), 2U);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    EXPECT_EQ(read[i].position, points[i].position) << i;  // floats of these values hold them exactly
+    EXPECT_EQ(read[i].bgr, points[i].bgr) << i;
+  }
+  WritePly(dir / "empty.ply", {});
+  EXPECT_TRUE(ReadPly(dir / "empty.ply").empty());
+}
+
+TEST(ReadPly, NamesTheFileOfAnotherLayoutOrAShortBody) {
+  testing::TempDir dir;
+  using ::hoidslam::testing::InputErrorOf;
+  using ::hoidslam::testing::WriteText;
+  EXPECT_THAT(InputErrorOf([&] { ReadPly(dir / "missing.ply"); }), ::testing::HasSubstr("missing.ply"));
+  WriteText(dir / "ascii.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n1\n");
+  EXPECT_THAT(InputErrorOf([&] { ReadPly(dir / "ascii.ply"); }),
+              ::testing::HasSubstr("ascii.ply: not a point cloud as hoidslam writes it"));
+  WritePly(dir / "map.ply", std::vector<ColoredPoint>(3));
+  std::string bytes = ::hoidslam::testing::ReadText(dir / "map.ply");
+  WriteText(dir / "short.ply", bytes.substr(0, bytes.size() - 1));
+  EXPECT_THAT(InputErrorOf([&] { ReadPly(dir / "short.ply"); }),
+              ::testing::HasSubstr("short.ply: the header says 3 points, the 44 bytes after it hold 2.933"));
+  WriteText(dir / "endless.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 3");
+  EXPECT_THAT(InputErrorOf([&] { ReadPly(dir / "endless.ply"); }), ::testing::HasSubstr("header never ends"));
 }
 
 }  // namespace

@@ -9,14 +9,17 @@
 #include <iterator>
 #include <limits>
 #include <stdexcept>
+#include <tuple>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
 #include "hoidslam/core/error.h"
+#include "hoidslam/core/shipped_dir.h"
 #include "hoidslam/io/atomic_file.h"
 #include "hoidslam/io/trajectory_file.h"
+#include "hoidslam/report/page_json.h"
 
 namespace hoidslam::report {
 namespace {
@@ -102,6 +105,26 @@ ExclusionCounts ReadExclusionCounts(const JsonFields& fields, const json& object
           fields.Get<std::size_t>(object, "static_kept"), fields.Get<std::size_t>(object, "static_dropped")};
 }
 
+// The camera the run used, from the settings summary.json records (provenance.settings.values, as
+// io::SettingsToJson writes them); keys not recorded keep the defaults, the TUM fr3 camera.
+core::CameraIntrinsics RecordedCamera(const JsonFields& fields, const json& summary) {
+  core::CameraIntrinsics camera;
+  const json* values = &summary;
+  for (const char* key : {"provenance", "settings", "values"}) {
+    if (!values->contains(key)) return camera;
+    values = &fields.Object(*values, key);
+  }
+  for (const auto& [key, value] : {std::pair{"Camera.fx", &camera.fx}, std::pair{"Camera.fy", &camera.fy},
+                                   std::pair{"Camera.cx", &camera.cx}, std::pair{"Camera.cy", &camera.cy}}) {
+    if (values->contains(key)) *value = fields.Get<double>(*values, key);
+  }
+  for (const auto& [key, value] :
+       {std::pair{"Camera.width", &camera.width}, std::pair{"Camera.height", &camera.height}}) {
+    if (values->contains(key)) *value = fields.Get<int>(*values, key);
+  }
+  return camera;
+}
+
 void ReadSummary(const fs::path& path, RunReport& report) {
   const json summary = ReadJsonObject(path);
   const JsonFields fields(path, 0);
@@ -129,6 +152,18 @@ void ReadSummary(const fs::path& path, RunReport& report) {
                                                 fields.Get<double>(quality, "wasted"),
                                                 ReadExclusionCounts(fields, quality)};
   }
+  report.camera = RecordedCamera(fields, summary);
+}
+
+// map.ply and keyframes.txt into report.map, or into report.no_map the one that is missing.
+void ReadRunMap(const fs::path& folder, RunReport& report) {
+  for (const char* file : {"map.ply", "keyframes.txt"}) {
+    if (!fs::exists(folder / file)) {
+      report.no_map = fmt::format("the run folder has no {}", file);
+      return;
+    }
+  }
+  report.map = RunMap{io::ReadPly(folder / "map.ply"), io::ReadTumTrajectory(folder / "keyframes.txt")};
 }
 
 DynamicDetection ReadDynamic(const JsonFields& fields, const json& object) {
@@ -240,7 +275,7 @@ constexpr std::string_view kStyle = R"(
 * { box-sizing: border-box; }
 body { margin: 0; background: #f4f5f7; color: var(--ink);
        font: 15px/1.5 system-ui, -apple-system, "Segoe UI", Roboto, Helvetica, Arial, sans-serif; }
-main { max-width: 1100px; margin: 0 auto; padding: 28px 30px 40px; background: #fff; min-height: 100vh; }
+body > main { max-width: 1100px; margin: 0 auto; padding: 28px 30px 40px; background: #fff; min-height: 100vh; }
 h1 { font-size: 26px; margin: 0 0 2px; }
 h2 { font-size: 19px; margin: 32px 0 10px; padding-bottom: 4px; border-bottom: 1px solid var(--rule); }
 .sub { color: var(--muted); margin: 0; }
@@ -267,10 +302,12 @@ p.table-note { color: var(--muted); font-size: 13px; margin: -4px 0 12px; font-s
 .snapshots img { display: block; width: 100%; height: auto; border-radius: 4px; border: 1px solid var(--rule); }
 .snapshots figcaption { color: var(--ink); }
 .snapshots ul { margin: 4px 0 0; padding-left: 18px; }
+/* The map section's viewer page, made to fill a window, fills a box; it has a <main> of its own (body > main). */
+#hoidslam-viewer { height: 640px; border-radius: 6px; overflow: hidden; }
 footer { color: var(--muted); font-size: 12px; margin-top: 36px; border-top: 1px solid var(--rule); padding-top: 8px; }
 @media print {
   body { background: #fff; }
-  main { max-width: none; padding: 0; min-height: 0; }
+  body > main { max-width: none; padding: 0; min-height: 0; }
   h2 { break-after: avoid; }
   figure, table, .card, .note { break-inside: avoid; }
 }
@@ -570,6 +607,44 @@ std::string SnapshotCaption(const Snapshot& snapshot, const FrameRecord* frame, 
   return html;
 }
 
+// The page's embedded data (docs/viewer.md, "The same page in a report"): hello and the main map, whole, as map 0;
+// no frame, so the page shows the map alone. Escaped for a <script> element.
+std::string ViewerData(const RunReport& report) {
+  const RunMap& map = *report.map;
+  PointsJson points;
+  for (std::size_t i = 0; i < map.points.size(); ++i) points.Add(i, 0, map.points[i].position, map.points[i].bgr);
+  json keyframes = json::array();
+  for (std::size_t i = 0; i < map.keyframes.size(); ++i) {
+    keyframes.push_back(KeyframeJson(i, 0, map.keyframes[i].T_wc));
+  }
+  const json data = {
+      {"hello", HelloJson(report.sequence, report.frames, report.camera, false)},
+      {"map",
+       {{"full", true},
+        {"main_map", 0},
+        {"maps", {{{"id", 0}, {"keyframes", map.keyframes.size()}, {"points", map.points.size()}}}},
+        {"points", std::move(points).ToJson()},
+        {"keyframes", std::move(keyframes)}}}};
+  std::string text = data.dump(-1, ' ', false, json::error_handler_t::replace);
+  // '<' appears only inside JSON strings, where \u003c means the same: no "</script" or "<!--" can end the element
+  // early or change how the browser reads it.
+  for (std::size_t at = 0; (at = text.find('<', at)) != std::string::npos;) text.replace(at, 1, "\\u003c");
+  return text;
+}
+
+std::string MapSection(const RunReport& report, const ViewerBundle& viewer) {
+  std::string html = "<section>\n<h2>Map</h2>\n";
+  const std::string& missing = report.map ? viewer.missing : report.no_map;
+  if (!missing.empty()) return html + Note("No 3D view of the map: " + missing + ".") + "</section>\n";
+  html += fmt::format(
+      "<p class=\"sub\">The main map as the run wrote it: the {} points of map.ply in their own colours and the {} "
+      "keyframes of keyframes.txt as cameras along their path. Drag to turn, right-drag to pan, scroll to zoom.</p>\n",
+      report.map->points.size(), report.map->keyframes.size());
+  return html + "<style>" + viewer.style + "</style>\n<div id=\"hoidslam-viewer\"></div>\n" +
+         "<script id=\"hoidslam-data\" type=\"application/json\">" + ViewerData(report) + "</script>\n" +
+         "<script>" + viewer.script + "</script>\n</section>\n";
+}
+
 std::string SnapshotsSection(const RunReport& report) {
   if (report.snapshots.empty()) return "";
   return "<section>\n<h2>Annotated frames</h2>\n<p class=\"sub\">Boxes coloured by the filter's decision with the "
@@ -606,6 +681,7 @@ RunReport LoadRunReport(const fs::path& run_folder, const fs::path& groundtruth)
   RequireRunFile(trajectory);
   report.estimate = io::ReadTumTrajectory(trajectory);
   report.snapshots = ReadSnapshots(run_folder / "snapshots");
+  ReadRunMap(run_folder, report);
   if (!groundtruth.empty()) Compare(groundtruth, trajectory, report);
   return report;
 }
@@ -629,9 +705,33 @@ fs::path RecordedGroundTruthIfPresent(const fs::path& run_folder, std::string_vi
   return groundtruth;
 }
 
-std::string RenderRunHtml(const RunReport& report) {
+ViewerBundle LoadViewerBundle(const fs::path& web_dir) {
+  const auto none = [](std::string why) { return ViewerBundle{.script = "", .style = "", .missing = std::move(why)}; };
+  ViewerBundle bundle;
+  try {
+    bundle.script = ReadBytes(web_dir / "viewer.js");
+    bundle.style = ReadBytes(web_dir / "viewer.css");
+  } catch (const InputError& e) {
+    return none(fmt::format("the viewer's page is not there ({})", e.what()));
+  }
+  // An inline element ends at the first "</script" or "</style", whatever the case, even inside a string.
+  const auto holds_end_tag = [](std::string text, std::string_view tag) {
+    std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return std::tolower(c); });
+    return text.find(fmt::format("</{}", tag)) != std::string::npos;
+  };
+  for (const auto& [file, text, tag] : {std::tuple{"viewer.js", &bundle.script, "script"},
+                                        std::tuple{"viewer.css", &bundle.style, "style"}}) {
+    if (holds_end_tag(*text, tag)) {
+      return none(fmt::format("{} holds \"</{}\" and cannot be inlined", (web_dir / file).string(), tag));
+    }
+  }
+  return bundle;
+}
+
+std::string RenderRunHtml(const RunReport& report, const ViewerBundle& viewer) {
   std::string body = Header(report);
   body += TrajectorySection(report);
+  body += MapSection(report, viewer);
   body += FeaturesSection(report);
   body += TimingSection(report);
   body += ExclusionSection(report);
@@ -646,7 +746,9 @@ void WriteRunReport(const fs::path& run_folder, const fs::path& groundtruth, con
                     const fs::path& shown_folder) {
   RunReport report = LoadRunReport(run_folder, groundtruth);
   if (!shown_folder.empty()) report.folder = shown_folder;
-  const std::string html = RenderRunHtml(report);
+  const ViewerBundle viewer = LoadViewerBundle(core::WebDir());
+  if (!viewer.missing.empty()) spdlog::warn("the report has no 3D view of the map: {}", viewer.missing);
+  const std::string html = RenderRunHtml(report, viewer);
   io::AtomicFile file(out_html);
   file.stream() << html;
   file.Commit();

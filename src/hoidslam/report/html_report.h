@@ -5,7 +5,8 @@
 // The run report shows one folder written by `hoidslam run` (docs/slam.md, "Outputs"): its counts, the
 // trajectory seen from above against ground truth, the ATE over time, the features per frame, the time per stage,
 // how well the exclusion matched the moving pixels (or that the sequence has no ground-truth masks to score it
-// against) and the annotated snapshots (when the run saved any). The bench report is a page of sections that `hoidslam bench` fills with tables and charts.
+// against), the main map in 3D (the viewer's own page inlined, docs/viewer.md) and the annotated snapshots (when the
+// run saved any). The bench report is a page of sections that `hoidslam bench` fills with tables and charts.
 
 #include <array>
 #include <cstddef>
@@ -18,8 +19,10 @@
 
 #include <Eigen/Core>
 
+#include "hoidslam/core/camera.h"
 #include "hoidslam/core/pose.h"
 #include "hoidslam/eval/evaluation.h"
+#include "hoidslam/io/ply_file.h"
 #include "hoidslam/report/svg_plot.h"
 #include "hoidslam/report/table.h"
 
@@ -90,6 +93,12 @@ struct GroundTruthComparison {
   std::vector<Eigen::Vector3d> aligned_estimate;  // every estimated position, in the ground truth's frame
 };
 
+// The main map as the run wrote it, for the 3D view.
+struct RunMap {
+  std::vector<io::ColoredPoint> points;  // map.ply, in file order (a point's id on the page is its place there)
+  core::Trajectory keyframes;            // keyframes.txt: each keyframe's pose, camera to world
+};
+
 struct RunReport {
   std::filesystem::path folder;
   // From summary.json.
@@ -108,10 +117,13 @@ struct RunReport {
   std::vector<StageTime> median_ms;           // the stages present, in pipeline order
   std::optional<double> median_tracking_ms;   // extraction + filter + tracking, the budgeted figure
   std::optional<ExclusionQuality> exclusion_quality;  // none when the sequence has no ground-truth moving masks
+  core::CameraIntrinsics camera;  // the run's settings (provenance.settings.values), else the TUM fr3 defaults
 
   std::vector<FrameRecord> frame_log;  // frames.jsonl, in file order
   core::Trajectory estimate;           // trajectory.txt
   std::vector<Snapshot> snapshots;     // by frame; empty without snapshots/
+  std::optional<RunMap> map;           // none when the folder has no map.ply or no keyframes.txt
+  std::string no_map;                  // then: which file is missing
   std::optional<GroundTruthComparison> comparison;  // when ground truth was given and fits the estimate
   std::string not_compared;  // why there is no comparison although ground truth was given (too few matches)
 };
@@ -119,8 +131,8 @@ struct RunReport {
 // Reads a folder written by `hoidslam run` and, when `groundtruth` is not empty, compares its trajectory with that
 // TUM file (default eval::EvaluationOptions, as `hoidslam run` evaluates). Throws InputError naming the file for
 // a missing folder, summary.json, frames.jsonl or trajectory.txt, a malformed line, a snapshot that is not a
-// JPEG, or an unreadable ground-truth file; ground truth that does not overlap the estimate is not an error but
-// a note in the report (not_compared).
+// JPEG, a map.ply or keyframes.txt that cannot be read, or an unreadable ground-truth file; ground truth that does
+// not overlap the estimate is not an error but a note in the report (not_compared).
 RunReport LoadRunReport(const std::filesystem::path& run_folder, const std::filesystem::path& groundtruth);
 
 // The ground-truth file summary.json says the run was evaluated against (`evaluation.groundtruth.path`, as the
@@ -132,11 +144,24 @@ std::filesystem::path RecordedGroundTruth(const std::filesystem::path& run_folde
 // and that `option` gives one (the run recorded the path as it was given, possibly relative to another folder).
 std::filesystem::path RecordedGroundTruthIfPresent(const std::filesystem::path& run_folder, std::string_view option);
 
-// The whole page.
-std::string RenderRunHtml(const RunReport& report);
+// The viewer's page as one script and one stylesheet, for a report to inline (docs/viewer.md, "The same page in a
+// report").
+struct ViewerBundle {
+  std::string script;   // viewer.js
+  std::string style;    // viewer.css
+  std::string missing;  // why there is no page to inline, when there is none (script and style are then empty)
+};
 
-// LoadRunReport, RenderRunHtml, and the page written to `out_html` complete or not at all. `shown_folder`: the
-// folder the page names, when it is read from a staging folder that will be renamed to it (empty: `run_folder`).
+// viewer.js and viewer.css of `web_dir` (core::WebDir(): the build's or the installed page). Never throws: files
+// that are not there, or that would end their inline element early (`</script`, `</style`), give `missing`.
+ViewerBundle LoadViewerBundle(const std::filesystem::path& web_dir);
+
+// The whole page; the Map section inlines `viewer` with the run's map, or says why it cannot.
+std::string RenderRunHtml(const RunReport& report, const ViewerBundle& viewer);
+
+// LoadRunReport, RenderRunHtml with the page of core::WebDir(), and the page written to `out_html` complete or not
+// at all. `shown_folder`: the folder the page names, when it is read from a staging folder that will be renamed to
+// it (empty: `run_folder`).
 void WriteRunReport(const std::filesystem::path& run_folder, const std::filesystem::path& groundtruth,
                     const std::filesystem::path& out_html, const std::filesystem::path& shown_folder = {});
 

@@ -7,10 +7,12 @@
 #include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include "hoidslam/core/error.h"
+#include "hoidslam/io/ply_file.h"
 #include "hoidslam/report/test_markup.h"
 #include "support/input_error.h"
 #include "support/temp_dir.h"
@@ -29,6 +31,19 @@ using ::testing::Not;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
+// A stand-in for the viewer's page (web/): what the report inlines, it inlines as it is.
+const ViewerBundle kViewer{
+    .script = "window.drawn = 1 < 2 && 3 > 2;", .style = ".hoidslam-viewer > h1 { color: red; }", .missing = ""};
+
+// The JSON of the page's embedded data, as the browser reads it.
+nlohmann::json EmbeddedData(const std::string& html) {
+  const std::string start = R"(<script id="hoidslam-data" type="application/json">)";
+  const std::size_t begin = html.find(start);
+  if (begin == std::string::npos) return nullptr;
+  const std::size_t end = html.find("</script>", begin);
+  return nlohmann::json::parse(html.substr(begin + start.size(), end - begin - start.size()));
+}
+
 // The camera position of frame i of the hand-written run (frames 0.5 s apart, frame 3 lost).
 Eigen::Vector3d Position(int i) { return {0.3 * i, 0.2 * std::sin(i), 0.1 * i * i}; }
 double Stamp(int i) { return 100.0 + 0.5 * i; }
@@ -41,9 +56,16 @@ Eigen::Vector3d ToGroundTruth(const Eigen::Vector3d& p) {
 constexpr std::string_view kSummary = R"({"sequence": "tiny", "filter": "hoid2d", "detector": "detections.jsonl",
   "frames": 6, "tracked": 5, "lost": 1, "before_initialization": 0, "keyframes": 2, "map_points": 321,
   "detector_failures": 0, "keypoints_extracted": 6000, "keypoints_dropped": 1200, "interrupted": false,
+  "provenance": {"settings": {"values": {"Camera.fx": 500.0, "Camera.fy": 501.0, "Camera.cx": 319.5,
+                                         "Camera.cy": 239.5, "Camera.width": 640, "Camera.height": 480}}},
   "median_ms": {"load": 12.5, "extract": 3.4, "detect": 0.0, "filter": 0.006, "track": 3.2, "tracking_total": 6.6},
   "exclusion_quality": {"leaked": 0.25, "wasted": 0.02, "moving_kept": 100, "moving_dropped": 300,
                         "static_kept": 4410, "static_dropped": 90}})";
+
+// The main map of the hand-written run: three points, and two keyframes (frames 0 and 4).
+const std::vector<io::ColoredPoint> kMapPoints = {
+    {{0.12344, -1.5, 2.0}, {10, 20, 30}}, {{1.0, 0.25, 3.00006}, {255, 0, 128}}, {{-2.0, 0.0, 4.5}, {1, 2, 3}}};
+constexpr std::string_view kKeyframes = "100.000000 0 0 0 0 0 0 1\n102.000000 1.2 0.2 1.6 0 0 0 1\n";
 
 // A folder as `hoidslam run` writes it, six frames, with one snapshot; returns the ground-truth file beside it.
 fs::path WriteRunFolder(const fs::path& folder) {
@@ -81,6 +103,8 @@ fs::path WriteRunFolder(const fs::path& folder) {
   }
   WriteText(folder / "frames.jsonl", frames);
   WriteText(folder / "trajectory.txt", trajectory);
+  io::WritePly(folder / "map.ply", kMapPoints);
+  WriteText(folder / "keyframes.txt", std::string(kKeyframes));
   std::vector<std::uint8_t> jpeg;
   cv::imencode(".jpg", cv::Mat(24, 32, CV_8UC3, cv::Scalar(30, 200, 30)), jpeg);
   WriteText(folder / "snapshots" / "000002.jpg", std::string(jpeg.begin(), jpeg.end()));
@@ -136,6 +160,25 @@ TEST(LoadRunReport, ReadsSummaryFrameLogTrajectoryAndSnapshots) {
   EXPECT_EQ(report.snapshots[0].frame, 2U);
   EXPECT_FALSE(report.comparison);
   EXPECT_TRUE(report.not_compared.empty());
+
+  EXPECT_DOUBLE_EQ(report.camera.fx, 500.0);  // the settings summary.json recorded
+  EXPECT_DOUBLE_EQ(report.camera.cy, 239.5);
+  EXPECT_EQ(report.camera.width, 640);
+  ASSERT_TRUE(report.map) << report.no_map;
+  ASSERT_EQ(report.map->points.size(), 3U);
+  EXPECT_EQ(report.map->points[1].bgr, cv::Vec3b(255, 0, 128));
+  ASSERT_EQ(report.map->keyframes.size(), 2U);
+  EXPECT_DOUBLE_EQ(report.map->keyframes[1].T_wc.translation().z(), 1.6);
+}
+
+TEST(LoadRunReport, WithoutRecordedSettingsTheCameraIsTumFr3s) {
+  const TempDir scratch;
+  WriteRunFolder(scratch / "run");
+  std::string summary(kSummary);
+  const std::size_t provenance = summary.find("\"provenance\"");
+  summary.erase(provenance, summary.find("\"median_ms\"") - provenance);
+  WriteText(scratch / "run" / "summary.json", summary);
+  EXPECT_EQ(LoadRunReport(scratch / "run", {}).camera, core::CameraIntrinsics{});
 }
 
 TEST(LoadRunReport, AlignsTheEstimateOntoTheGroundTruthAsEvalDoes) {
@@ -163,7 +206,7 @@ TEST(LoadRunReport, GroundTruthOfAnotherTimeIsANoteNotAnError) {
   const RunReport report = LoadRunReport(scratch / "run", scratch / "other.txt");
   EXPECT_FALSE(report.comparison);
   EXPECT_THAT(report.not_compared, HasSubstr("other.txt"));
-  EXPECT_THAT(RenderRunHtml(report), HasSubstr("Not compared with ground truth"));
+  EXPECT_THAT(RenderRunHtml(report, kViewer), HasSubstr("Not compared with ground truth"));
 }
 
 TEST(LoadRunReport, NamesTheFileOfEveryProblem) {
@@ -182,6 +225,13 @@ TEST(LoadRunReport, NamesTheFileOfEveryProblem) {
   WriteText(run / "frames.jsonl", "{not json\n");
   EXPECT_THAT(InputErrorOf([&] { LoadRunReport(run, {}); }), HasSubstr("frames.jsonl:1: not valid JSON"));
   WriteText(run / "frames.jsonl", frames);
+
+  WriteText(run / "map.ply", "ply\nformat ascii 1.0\nend_header\n");
+  EXPECT_THAT(InputErrorOf([&] { LoadRunReport(run, {}); }), HasSubstr("map.ply: not a point cloud"));
+  io::WritePly(run / "map.ply", kMapPoints);
+  WriteText(run / "keyframes.txt", "100 0 0\n");
+  EXPECT_THAT(InputErrorOf([&] { LoadRunReport(run, {}); }), HasSubstr("keyframes.txt:1:"));
+  WriteText(run / "keyframes.txt", std::string(kKeyframes));
 
   WriteText(run / "snapshots" / "000004.jpg", "GIF89a");
   EXPECT_THAT(InputErrorOf([&] { LoadRunReport(run, {}); }), HasSubstr("000004.jpg: is not a JPEG image"));
@@ -211,11 +261,11 @@ TEST(RenderRunHtml, IsOneSelfContainedPageWithEverySection) {
   const TempDir scratch;
   const fs::path groundtruth = WriteRunFolder(scratch / "run");
   const RunReport report = LoadRunReport(scratch / "run", groundtruth);
-  const std::string html = RenderRunHtml(report);
+  const std::string html = RenderRunHtml(report, kViewer);
   EXPECT_TRUE(html.starts_with("<!DOCTYPE html>"));
   EXPECT_EQ(report::testing::UnbalancedTags(html), "");
-  // Nothing fetched: no scripts, style sheets or remote images; the only URL is the SVG namespace name.
-  for (const char* outside : {"<script", "<link", "url(", "@import", "src=\"http", "href="}) {
+  // Nothing fetched: no script or style sheet from a file, no remote images; the only URL is the SVG namespace name.
+  for (const char* outside : {"<script src", "<link", "url(", "@import", "src=\"http", "href="}) {
     EXPECT_THAT(html, Not(HasSubstr(outside))) << outside;
   }
   std::size_t urls = 0;
@@ -231,6 +281,7 @@ TEST(RenderRunHtml, IsOneSelfContainedPageWithEverySection) {
   EXPECT_THAT(html, HasSubstr("ATE over time"));
   EXPECT_THAT(html, HasSubstr("Keypoints per frame"));
   EXPECT_THAT(html, HasSubstr("Median time per stage"));
+  EXPECT_THAT(html, HasSubstr("<h2>Map</h2>"));
   EXPECT_THAT(html, HasSubstr("leaked: 25.0 % kept"));
   EXPECT_THAT(html, HasSubstr("Exclusion errors per frame"));
   EXPECT_THAT(html, HasSubstr("Age of the detections per frame"));  // every other frame's are a frame old
@@ -246,7 +297,7 @@ TEST(RenderRunHtml, WithoutGroundTruthShowsTheEstimateAndSaysSo) {
   const TempDir scratch;
   WriteRunFolder(scratch / "run");
   fs::remove_all(scratch / "run" / "snapshots");
-  const std::string html = RenderRunHtml(LoadRunReport(scratch / "run", {}));
+  const std::string html = RenderRunHtml(LoadRunReport(scratch / "run", {}), kViewer);
   EXPECT_EQ(report::testing::UnbalancedTags(html), "");
   EXPECT_THAT(html, HasSubstr("No ground truth given"));
   EXPECT_THAT(html, HasSubstr(">estimate</text>"));
@@ -273,7 +324,7 @@ TEST(RenderRunHtml, WithoutMovingMasksSaysExclusionIsNotScored) {
   const RunReport report = LoadRunReport(run, groundtruth);
   EXPECT_FALSE(report.exclusion_quality);
   EXPECT_FALSE(report.frame_log.at(2).exclusion);
-  const std::string html = RenderRunHtml(report);
+  const std::string html = RenderRunHtml(report, kViewer);
   EXPECT_EQ(report::testing::UnbalancedTags(html), "");
   EXPECT_THAT(html, HasSubstr("<h2>Exclusion against the moving pixels</h2>"));
   EXPECT_THAT(html, HasSubstr("no ground-truth masks"));
@@ -286,13 +337,107 @@ TEST(RenderRunHtml, WithoutMovingMasksSaysExclusionIsNotScored) {
   const std::size_t comma = summary.rfind(',', quality);
   summary.erase(comma, summary.rfind('}') - comma);
   WriteText(run / "summary.json", summary);
-  EXPECT_EQ(RenderRunHtml(LoadRunReport(run, groundtruth)), html);
+  EXPECT_EQ(RenderRunHtml(LoadRunReport(run, groundtruth), kViewer), html);
 
   // Anything but an object or null is still an error naming the file and the member.
   summary.insert(summary.rfind('}'), R"(, "exclusion_quality": 0.5)");
   WriteText(run / "summary.json", summary);
   EXPECT_THAT(InputErrorOf([&] { LoadRunReport(run, {}); }),
               HasSubstr("summary.json: 'exclusion_quality' must be an object, not number"));
+}
+
+TEST(RenderRunHtml, InlinesTheViewersPageWithTheMapOfTheRunFolder) {
+  const TempDir scratch;
+  WriteRunFolder(scratch / "run");
+  const std::string html = RenderRunHtml(LoadRunReport(scratch / "run", {}), kViewer);
+  EXPECT_EQ(report::testing::UnbalancedTags(html), "");
+  // The page's parts in the order it needs them: its style, its element, its data, then its script.
+  const std::size_t style = html.find("<style>" + kViewer.style + "</style>");
+  const std::size_t root = html.find(R"(<div id="hoidslam-viewer"></div>)");
+  const std::size_t data = html.find(R"(<script id="hoidslam-data" type="application/json">)");
+  const std::size_t script = html.find("<script>" + kViewer.script + "</script>");
+  ASSERT_NE(script, std::string::npos);
+  EXPECT_LT(style, root);
+  EXPECT_LT(root, data);
+  EXPECT_LT(data, script);
+
+  const nlohmann::json embedded = EmbeddedData(html);
+  const nlohmann::json& hello = embedded.at("hello");
+  EXPECT_EQ(hello.at("sequence"), "tiny");
+  EXPECT_EQ(hello.at("total_frames"), 6);
+  EXPECT_EQ(hello.at("controllable"), false);
+  EXPECT_EQ(hello.at("camera"), (nlohmann::json{{"fx", 500.0}, {"fy", 501.0}, {"cx", 319.5}, {"cy", 239.5},
+                                                {"width", 640}, {"height", 480}}));
+  EXPECT_FALSE(embedded.contains("frame"));  // the page shows the map alone
+  const nlohmann::json& map = embedded.at("map");
+  EXPECT_EQ(map.at("full"), true);
+  EXPECT_EQ(map.at("main_map"), 0);
+  EXPECT_EQ(map.at("maps"), (nlohmann::json{{{"id", 0}, {"keyframes", 2}, {"points", 3}}}));
+  // Every point of map.ply by its place in the file, to 0.1 mm, in RGB.
+  const nlohmann::json& points = map.at("points");
+  EXPECT_EQ(points.at("ids"), (nlohmann::json{0, 1, 2}));
+  EXPECT_EQ(points.at("map"), (nlohmann::json{0, 0, 0}));
+  const std::vector<double> xyz = points.at("xyz");
+  const std::vector<double> expected_xyz = {0.1234, -1.5, 2.0, 1.0, 0.25, 3.0001, -2.0, 0.0, 4.5};
+  ASSERT_EQ(xyz.size(), expected_xyz.size());
+  for (std::size_t i = 0; i < xyz.size(); ++i) EXPECT_NEAR(xyz[i], expected_xyz[i], 1e-9) << i;
+  EXPECT_EQ(points.at("rgb"), (nlohmann::json{30, 20, 10, 128, 0, 255, 3, 2, 1}));
+  // Every keyframe of keyframes.txt, its pose as the page takes it.
+  const nlohmann::json& keyframes = map.at("keyframes");
+  ASSERT_EQ(keyframes.size(), 2U);
+  EXPECT_EQ(keyframes[1].at("id"), 1);
+  EXPECT_EQ(keyframes[1].at("map"), 0);
+  EXPECT_EQ(keyframes[1].at("T_wc"), (nlohmann::json{1, 0, 0, 1.2, 0, 1, 0, 0.2, 0, 0, 1, 1.6, 0, 0, 0, 1}));
+}
+
+TEST(RenderRunHtml, EscapesTheEmbeddedDataForItsScriptElement) {
+  const TempDir scratch;
+  WriteRunFolder(scratch / "run");
+  RunReport report = LoadRunReport(scratch / "run", {});
+  report.sequence = "a</script><!--<script>b";
+  const std::string html = RenderRunHtml(report, kViewer);
+  // The data element ends where the report ends it, and reads back as it was.
+  EXPECT_THAT(html, Not(HasSubstr("a</script>")));
+  EXPECT_THAT(html, Not(HasSubstr("<!--")));
+  EXPECT_EQ(EmbeddedData(html).at("hello").at("sequence"), report.sequence);
+  EXPECT_EQ(report::testing::UnbalancedTags(html), "");
+}
+
+TEST(RenderRunHtml, SaysWhyThereIsNoMapView) {
+  const TempDir scratch;
+  WriteRunFolder(scratch / "run");
+  const RunReport report = LoadRunReport(scratch / "run", {});
+  const ViewerBundle none{.script = "", .style = "", .missing = "the viewer's page is not there (x)"};
+  const std::string without_page = RenderRunHtml(report, none);
+  EXPECT_EQ(report::testing::UnbalancedTags(without_page), "");
+  EXPECT_THAT(without_page, HasSubstr("<h2>Map</h2>\n<p class=\"note\">No 3D view of the map: the viewer&#39;s page"));
+  EXPECT_THAT(without_page, Not(HasSubstr("<script")));
+  EXPECT_THAT(without_page, HasSubstr("Keypoints per frame"));  // the rest of the report is all there
+
+  fs::remove(scratch / "run" / "keyframes.txt");
+  const std::string without_map = RenderRunHtml(LoadRunReport(scratch / "run", {}), kViewer);
+  EXPECT_THAT(without_map, HasSubstr("No 3D view of the map: the run folder has no keyframes.txt."));
+  EXPECT_THAT(without_map, Not(HasSubstr("<script")));
+}
+
+TEST(LoadViewerBundle, ReadsTheScriptAndStyleOrSaysWhyNot) {
+  const TempDir scratch;
+  EXPECT_THAT(LoadViewerBundle(scratch / "web").missing,
+              HasSubstr("the viewer's page is not there (" + (scratch / "web" / "viewer.js").string()));
+  fs::create_directories(scratch / "web");
+  WriteText(scratch / "web" / "viewer.js", kViewer.script);
+  EXPECT_THAT(LoadViewerBundle(scratch / "web").missing, HasSubstr("viewer.css"));
+  WriteText(scratch / "web" / "viewer.css", kViewer.style);
+  const ViewerBundle bundle = LoadViewerBundle(scratch / "web");
+  EXPECT_EQ(bundle.missing, "");
+  EXPECT_EQ(bundle.script, kViewer.script);
+  EXPECT_EQ(bundle.style, kViewer.style);
+
+  // A script that would end its element early is not inlined.
+  WriteText(scratch / "web" / "viewer.js", "const tag = '</SCRIPT>';");
+  const ViewerBundle unsafe = LoadViewerBundle(scratch / "web");
+  EXPECT_THAT(unsafe.missing, HasSubstr("viewer.js holds \"</script\" and cannot be inlined"));
+  EXPECT_EQ(unsafe.script, "");
 }
 
 TEST(WriteRunReport, WritesThePageOrNothing) {

@@ -1,6 +1,7 @@
 #pragma once
 // For the report tests: is a piece of SVG or HTML well formed enough that a browser draws what we meant?
-// Every element closed in order, no stray '<' in text; HTML void elements and the raw text of <style> allowed.
+// Every element closed in order, no stray '<' in text; HTML void elements and the raw text of <style> and <script>
+// allowed.
 
 #include <algorithm>
 #include <array>
@@ -39,9 +40,9 @@ inline std::string UnbalancedTags(std::string_view markup) {
       open.pop_back();
     } else if (!tag.ends_with('/') && std::find(kVoid.begin(), kVoid.end(), name) == kVoid.end()) {
       open.push_back(name);
-      if (name == "style") {  // CSS may hold '>' (child selectors): skip to the closing tag
-        pos = markup.find("</style>", pos);
-        if (pos == std::string_view::npos) return "unterminated <style>";
+      if (name == "style" || name == "script") {  // raw text: CSS and JavaScript may hold '<' and '>'
+        pos = markup.find("</" + name + ">", pos);
+        if (pos == std::string_view::npos) return "unterminated <" + name + ">";
       }
     }
   }

@@ -5,7 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "hoidslam/viewer/json_values.h"
+#include "hoidslam/report/page_json.h"
 
 namespace hoidslam::viewer {
 namespace {
@@ -98,22 +98,18 @@ bool AtlasHistory::Update(const slam::AtlasView& atlas, slam::MapId main_map) {
 std::string AtlasHistory::EventJsonSince(std::uint64_t since) const {
   const bool full = since == 0 || since < forgotten_ || since > revision_;
   if (full) since = 0;
-  nlohmann::json ids = nlohmann::json::array(), maps_of = nlohmann::json::array(), xyz = nlohmann::json::array(),
-                 rgb = nlohmann::json::array();
+  report::PointsJson points;
   std::map<slam::MapId, std::pair<std::size_t, std::size_t>> counts;  // map → points, keyframes
   for (const auto& [id, point] : points_) {
     ++counts[point.value.map].first;
     if (point.revision <= since) continue;
-    ids.push_back(id);
-    maps_of.push_back(point.value.map);
-    for (int k = 0; k < 3; ++k) xyz.push_back(Rounded(point.value.position[k], 1e4));
-    for (int k = 2; k >= 0; --k) rgb.push_back(point.value.color[k]);
+    points.Add(id, point.value.map, point.value.position.cast<double>(), point.value.color);
   }
   nlohmann::json keyframes = nlohmann::json::array();
   for (const auto& [id, keyframe] : keyframes_) {
     ++counts[keyframe.value.map].second;
     if (keyframe.revision <= since) continue;
-    keyframes.push_back({{"id", id}, {"map", keyframe.value.map}, {"T_wc", PoseJson(keyframe.value.T_wc)}});
+    keyframes.push_back(report::KeyframeJson(id, keyframe.value.map, keyframe.value.T_wc));
   }
   nlohmann::json maps = nlohmann::json::array();
   for (const auto& [map, count] : counts) {
@@ -123,8 +119,7 @@ std::string AtlasHistory::EventJsonSince(std::uint64_t since) const {
                           {"full", full},
                           {"main_map", main_map_},
                           {"maps", std::move(maps)},
-                          {"points", {{"ids", std::move(ids)}, {"map", std::move(maps_of)}, {"xyz", std::move(xyz)},
-                                      {"rgb", std::move(rgb)}}},
+                          {"points", std::move(points).ToJson()},
                           {"removed_points", full ? nlohmann::json::array() : RemovedSince(removed_points_, since)},
                           {"keyframes", std::move(keyframes)},
                           {"removed_keyframes",

@@ -7,10 +7,13 @@
 
 #include "hoidslam/hoid/explain.h"
 #include "hoidslam/report/html_report.h"
-#include "hoidslam/viewer/json_values.h"
+#include "hoidslam/report/page_json.h"
 
 namespace hoidslam::viewer {
 namespace {
+
+using report::PoseJson;
+using report::Rounded;
 
 std::string JpegDataUrl(const cv::Mat& image, double scale, int quality) {
   if (image.empty()) return {};

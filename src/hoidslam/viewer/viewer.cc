@@ -13,8 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "hoidslam/core/error.h"
-#include "hoidslam/core/shipped_dir.h"
-#include "hoidslam/version.h"
+#include "hoidslam/report/page_json.h"
 #include "hoidslam/viewer/atlas_history.h"
 
 namespace hoidslam::viewer {
@@ -29,13 +28,6 @@ std::string Event(std::string_view name, std::string_view data) {
 }
 
 }  // namespace
-
-std::filesystem::path WebDir() {
-  // The bundle, not index.html: in the build tree ShippedDir is the source folder, whose web/ has the sources only.
-  const std::filesystem::path installed = core::ShippedDir() / "web";
-  if (std::filesystem::exists(installed / "viewer.js")) return installed;
-  return HOIDSLAM_BUILD_WEB_DIR;
-}
 
 void ViewerOptions::Check() const {
   if (port < 0 || port > 65535) {
@@ -63,18 +55,7 @@ class Viewer::Impl {
   Impl(const ViewerOptions& options, const ViewerHello& hello, pipeline::Playback* playback)
       : options_(options), playback_(playback) {
     options_.Check();
-    hello_json_ = nlohmann::json{{"version", HOIDSLAM_VERSION},
-                                 {"sequence", hello.sequence},
-                                 {"total_frames", hello.total_frames},
-                                 {"camera",
-                                  {{"fx", hello.camera.fx},
-                                   {"fy", hello.camera.fy},
-                                   {"cx", hello.camera.cx},
-                                   {"cy", hello.camera.cy},
-                                   {"width", hello.camera.width},
-                                   {"height", hello.camera.height}}},
-                                 {"controllable", playback != nullptr}}
-                      .dump();
+    hello_json_ = report::HelloJson(hello.sequence, hello.total_frames, hello.camera, playback != nullptr).dump();
     total_frames_ = hello.total_frames;
     Route();
     port_ = options_.port == 0 ? server_.bind_to_any_port(options_.address)

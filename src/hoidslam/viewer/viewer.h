@@ -13,19 +13,17 @@
 #include <string>
 
 #include "hoidslam/core/camera.h"
+#include "hoidslam/core/shipped_dir.h"
 #include "hoidslam/pipeline/playback.h"
 #include "hoidslam/slam/system.h"
 #include "hoidslam/viewer/frame_snapshot.h"
 
 namespace hoidslam::viewer {
 
-// The folder of the built page: share/hoidslam/web of an installed hoidslam, else the build folder's web/.
-std::filesystem::path WebDir();
-
 struct ViewerOptions {
   std::string address = "127.0.0.1";  // where the server listens; 0.0.0.0 shows the page to other machines too
   int port = 8787;                     // 0: a free port the system picks
-  std::filesystem::path web_dir = WebDir();
+  std::filesystem::path web_dir = core::WebDir();
   double image_scale = 0.5;  // the frame's image is sent at this fraction of its size (keypoints stay exact)
   int jpeg_quality = 80;
   double map_interval_s = 0.25;  // how often the map is read while the run goes

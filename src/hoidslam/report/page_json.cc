@@ -1,0 +1,46 @@
+#include "hoidslam/report/page_json.h"
+
+#include "hoidslam/version.h"
+
+namespace hoidslam::report {
+
+nlohmann::json PoseJson(const core::Pose& pose) {
+  nlohmann::json values = nlohmann::json::array();
+  const Eigen::Matrix4d m = pose.matrix();
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) values.push_back(Rounded(m(r, c), c == 3 ? 1e4 : 1e6));
+  }
+  return values;
+}
+
+nlohmann::json HelloJson(std::string_view sequence, std::size_t total_frames, const core::CameraIntrinsics& camera,
+                         bool controllable) {
+  return {{"version", HOIDSLAM_VERSION},
+          {"sequence", sequence},
+          {"total_frames", total_frames},
+          {"camera",
+           {{"fx", camera.fx},
+            {"fy", camera.fy},
+            {"cx", camera.cx},
+            {"cy", camera.cy},
+            {"width", camera.width},
+            {"height", camera.height}}},
+          {"controllable", controllable}};
+}
+
+nlohmann::json KeyframeJson(std::uint64_t id, std::uint32_t map, const core::Pose& T_wc) {
+  return {{"id", id}, {"map", map}, {"T_wc", PoseJson(T_wc)}};
+}
+
+void PointsJson::Add(std::uint64_t id, std::uint32_t map, const Eigen::Vector3d& position, const cv::Vec3b& bgr) {
+  ids_.push_back(id);
+  maps_.push_back(map);
+  for (int k = 0; k < 3; ++k) xyz_.push_back(Rounded(position[k], 1e4));
+  for (int k = 2; k >= 0; --k) rgb_.push_back(bgr[k]);
+}
+
+nlohmann::json PointsJson::ToJson() && {
+  return {{"ids", std::move(ids_)}, {"map", std::move(maps_)}, {"xyz", std::move(xyz_)}, {"rgb", std::move(rgb_)}};
+}
+
+}  // namespace hoidslam::report
