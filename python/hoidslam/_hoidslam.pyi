@@ -147,12 +147,15 @@ class System:
         vocabulary: _Path | None = None,
         load_map: _Path | None = None,
         localization: bool = False,
+        view: bool | int = False,
+        view_address: str = "127.0.0.1",
     ) -> None:
         """settings: ORB-SLAM3-style YAML (shipped_dir()/"config/TUM3.yaml"); None: TUM fr3 defaults.
         camera: a Camera from the SDK's values, in place of the settings' camera, depth factor and baseline.
         filter: none, person, classes, hoid2d, hoid3d, hoidplus; "": the settings' HOID.mode, else hoidplus.
         detector: "given" (detections passed to track), "onnx" (model runs inside), "none".
-        realtime: the detector in its own thread. deterministic: byte-identical results on every run."""
+        realtime: the detector in its own thread. deterministic: byte-identical results on every run.
+        view: the live viewer in a browser: True on port 8787, a number on that port (0: any free one)."""
     def track(
         self,
         rgb: npt.NDArray[np.uint8],
@@ -188,6 +191,9 @@ class System:
         """uint16 depth units per metre (DepthMapFactor)."""
     @property
     def filter(self) -> str: ...
+    @property
+    def viewer_url(self) -> str:
+        """Where the live viewer's page is (http://address:port/); "" without view."""
     def __enter__(self) -> System: ...
     def __exit__(self, *args: object) -> None: ...
 

@@ -113,6 +113,12 @@ struct Camera {
   double baseline = 0.075;
 };
 
+// Where the live viewer's page is served (Options::view).
+struct View {
+  std::string address = "127.0.0.1";  // 0.0.0.0: other machines see the page too
+  int port = 8787;                     // 0: a free port (System::ViewerUrl says which)
+};
+
 struct Options {
   // ORB-SLAM3-style YAML with a HOID section (e.g. ShippedDir() / "config/TUM3.yaml"); empty: the TUM fr3 camera
   // and the default ORB and HOID settings.
@@ -143,10 +149,6 @@ struct Options {
   bool localization = false;
   // A live viewer of the session in a browser (docs/viewer.md), served while the System lives: the map, the current
   // frame with its keypoints kept and dropped, the boxes and their verdicts. nullopt: none (no thread, no copies).
-  struct View {
-    std::string address = "127.0.0.1";  // 0.0.0.0: other machines see the page too
-    int port = 8787;                     // 0: a free port (System::ViewerUrl says which)
-  };
   std::optional<View> view;
 };
 
