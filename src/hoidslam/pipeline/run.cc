@@ -132,46 +132,51 @@ RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detec
   if (realtime.pace) paced.emplace(sequence, total, realtime.preload_megabytes << 20);
   core::ProgressReporter progress("run", total);
   if (hooks.started) hooks.started(session);
-  Playback* const playback = paced ? nullptr : hooks.playback;
-  double held_seconds = 0.0;  // waiting for the playback's turn: not the system's time
-  const core::Stopwatch run_clock;
-  for (std::optional<std::size_t> previous; true;) {
-    const std::optional<std::size_t> next =
-        paced ? paced->Next(previous, stop_requested) : std::optional(previous ? *previous + 1 : 0);
-    if (stop_requested && stop_requested()) {
-      summary.interrupted = true;
-      break;
-    }
-    if (!next || *next >= total) break;
-    const std::size_t index = *next;
-    if (playback != nullptr) {
-      const core::Stopwatch wait;
-      const bool go = playback->WaitForTurn(sequence.entry(index).rgb_timestamp, stop_requested);
-      held_seconds += wait.ElapsedMilliseconds() / 1000.0;
-      if (!go) {
+  try {
+    Playback* const playback = paced ? nullptr : hooks.playback;
+    double held_seconds = 0.0;  // waiting for the playback's turn: not the system's time
+    const core::Stopwatch run_clock;
+    for (std::optional<std::size_t> previous; true;) {
+      const std::optional<std::size_t> next =
+          paced ? paced->Next(previous, stop_requested) : std::optional(previous ? *previous + 1 : 0);
+      if (stop_requested && stop_requested()) {
         summary.interrupted = true;
         break;
       }
-    }
-    const std::size_t dropped_before = paced ? paced->dropped() - summary.dropped : 0;
-    previous = index;
+      if (!next || *next >= total) break;
+      const std::size_t index = *next;
+      if (playback != nullptr) {
+        const core::Stopwatch wait;
+        const bool go = playback->WaitForTurn(sequence.entry(index).rgb_timestamp, stop_requested);
+        held_seconds += wait.ElapsedMilliseconds() / 1000.0;
+        if (!go) {
+          summary.interrupted = true;
+          break;
+        }
+      }
+      const std::size_t dropped_before = paced ? paced->dropped() - summary.dropped : 0;
+      previous = index;
 
-    const core::Stopwatch clock;
-    const core::RgbdFrame frame = paced ? paced->Take(index) : sequence.LoadFrame(index);
-    CheckImageSize(frame, options);
-    const FrameOutcome& outcome = session.Track(index, frame, nullptr, clock.ElapsedMilliseconds(), dropped_before);
-    if (IsSnapshot(index, total, options.snapshots)) {
-      WriteSnapshot(folder / "snapshots" / fmt::format("{:06d}.jpg", index), frame, outcome.boxes,
-                    outcome.features.keypoints, outcome.keep);
+      const core::Stopwatch clock;
+      const core::RgbdFrame frame = paced ? paced->Take(index) : sequence.LoadFrame(index);
+      CheckImageSize(frame, options);
+      const FrameOutcome& outcome = session.Track(index, frame, nullptr, clock.ElapsedMilliseconds(), dropped_before);
+      if (IsSnapshot(index, total, options.snapshots)) {
+        WriteSnapshot(folder / "snapshots" / fmt::format("{:06d}.jpg", index), frame, outcome.boxes,
+                      outcome.features.keypoints, outcome.keep);
+      }
+      log.stream() << outcome.entry.dump() << '\n';
+      if (hooks.frame_tracked) hooks.frame_tracked(index, frame, outcome);
+      progress.Update(index + 1);
     }
-    log.stream() << outcome.entry.dump() << '\n';
-    if (hooks.frame_tracked) hooks.frame_tracked(index, frame, outcome);
-    progress.Update(index + 1);
+    summary.seconds = run_clock.ElapsedMilliseconds() / 1000.0 - (paced ? paced->held_seconds() : held_seconds);
+    session.Finish();
+    session.WriteOutputs(folder);
+    log.Commit();
+  } catch (...) {
+    if (hooks.finished) hooks.finished(session);  // whoever follows the session lets go of it before it goes
+    throw;
   }
-  summary.seconds = run_clock.ElapsedMilliseconds() / 1000.0 - (paced ? paced->held_seconds() : held_seconds);
-  session.Finish();
-  session.WriteOutputs(folder);
-  log.Commit();
   if (hooks.finished) hooks.finished(session);
   return summary;
 }

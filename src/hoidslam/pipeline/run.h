@@ -163,7 +163,8 @@ struct RunHooks {
   // Pause, step and speed of a run that is not paced; ignored by a paced one, whose clock is the recording's.
   Playback* playback = nullptr;
   // Called on the run's thread: when the session exists (it lives until `finished` returns), after each frame
-  // tracked (the frame and its outcome are valid during the call), and once the outputs are written.
+  // tracked (the frame and its outcome are valid during the call), and once the outputs are written — or, when the
+  // run throws, before the session goes.
   std::function<void(const Session&)> started{};
   std::function<void(std::size_t index, const core::RgbdFrame&, const FrameOutcome&)> frame_tracked{};
   std::function<void(const Session&)> finished{};

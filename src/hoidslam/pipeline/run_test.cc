@@ -1,9 +1,12 @@
 #include "hoidslam/pipeline/run.h"
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <fstream>
 #include <map>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -13,6 +16,8 @@
 #include "hoidslam/core/error.h"
 #include "hoidslam/detect/file_detector.h"
 #include "hoidslam/io/trajectory_file.h"
+#include "hoidslam/pipeline/playback.h"
+#include "hoidslam/pipeline/session.h"
 #include "hoidslam/synth/test_scenarios.h"
 #include "support/shared_data.h"
 #include "support/temp_dir.h"
@@ -174,6 +179,51 @@ TEST(RunSequence, StopsWhenAskedAndKeepsWhatWasDone) {
   EXPECT_EQ(summary.frames, 12U);
   EXPECT_EQ(ReadLog(dir / "out" / "frames.jsonl").size(), 12U);
   EXPECT_EQ(io::ReadTumTrajectory(dir / "out" / "trajectory.txt").size(), summary.tracked);
+}
+
+// What a viewer follows: the session from its start to its end, every frame tracked, and a paused playback that
+// lets exactly the frames stepped through go. The session is let go of before it goes when the run throws too.
+TEST(RunSequence, HooksFollowTheSessionAndAPausedPlaybackLetsOnlyTheStepsGo) {
+  HOIDSLAM_SHARED_PATH_OR_SKIP(tum_dir, "data/tum");
+  testing::TempDir dir;
+  const fs::path sequence_root = RenderWalking(dir, tum_dir, 12);
+  const io::RgbdSequence sequence = io::RgbdSequence::OpenTum(sequence_root);
+  fs::create_directories(dir / "out");
+  detect::FileDetector detector(sequence_root / "detections.jsonl");
+  Playback playback;
+  playback.Pause();
+  std::atomic<int> started{0}, tracked{0}, finished{0};
+  RunHooks hooks{.playback = &playback,
+                 .started = [&](const Session&) { ++started; },
+                 .frame_tracked = [&](std::size_t, const core::RgbdFrame&, const FrameOutcome&) { ++tracked; },
+                 .finished = [&](const Session& session) { finished += session.finished() ? 1 : 100; }};
+  std::thread stepper([&] {
+    for (int step = 1; step <= 3; ++step) {
+      playback.Step();
+      const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+      while (tracked.load() < step && std::chrono::steady_clock::now() < deadline) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      }
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    EXPECT_EQ(tracked.load(), 3);  // paused after the steps
+    playback.Play();
+  });
+  const RunSummary summary = RunSequence(sequence, detector, Hoid2d(), dir / "out", hooks);
+  stepper.join();
+  EXPECT_EQ(summary.frames, 12U);
+  EXPECT_EQ(started.load(), 1);
+  EXPECT_EQ(tracked.load(), 12);
+  EXPECT_EQ(finished.load(), 1);  // once, after Finish
+
+  // A frame of another size stops the run with an error naming it; the session is let go of first.
+  cv::imwrite(sequence.entry(5).rgb_path.string(), cv::Mat(240, 320, CV_8UC3, cv::Scalar(0, 0, 0)));
+  finished = 0;
+  RunHooks watching{.finished = [&](const Session&) { ++finished; }};
+  fs::create_directories(dir / "out2");
+  EXPECT_THROW(RunSequence(io::RgbdSequence::OpenTum(sequence_root), detector, Hoid2d(), dir / "out2", watching),
+               core::InputError);
+  EXPECT_EQ(finished.load(), 1);
 }
 
 TEST(RunSequence, BlackFramesAreLostNotGuessed) {
