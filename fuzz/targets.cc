@@ -13,6 +13,7 @@ std::span<const Target> Targets() {
       Target{"associations", &FuzzAssociations}, Target{"trajectory", &FuzzTrajectory},
       Target{"detections", &FuzzDetections},   Target{"scenario", &FuzzScenario},
       Target{"vocabulary", &FuzzVocabulary},     Target{"map_file", &FuzzMapFile},
+      Target{"ply", &FuzzPly},
   };
   return kTargets;
 }
