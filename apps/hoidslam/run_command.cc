@@ -155,11 +155,9 @@ void RunRun(const RunArgs& args) {
   pipeline::Playback playback;
   std::unique_ptr<viewer::Viewer> view;
   if (args.view) {
-    view = std::make_unique<viewer::Viewer>(
-        args.view_options, viewer::ViewerHello{sequence.name(), options.max_frames == 0 ? sequence.size()
-                                                                                         : std::min(options.max_frames, sequence.size()),
-                                               options.system.camera},
-        options.realtime.pace ? nullptr : &playback);
+    const viewer::ViewerHello hello{sequence.name(), pipeline::FramesToPlay(options.max_frames, sequence.size()),
+                                    options.system.camera};
+    view = std::make_unique<viewer::Viewer>(args.view_options, hello, options.realtime.pace ? nullptr : &playback);
     spdlog::info("viewer: {}", view->url());
   }
 
@@ -171,16 +169,12 @@ void RunRun(const RunArgs& args) {
   pipeline::RunHooks hooks{.stop_requested = [&interrupts] { return interrupts.requested(); }};
   if (view) {
     hooks.playback = &playback;
-    hooks.started = [&view](const pipeline::Session& session) {
-      view->FollowMap([&session] { return session.system().ViewAtlas(); });
-    };
+    hooks.started = [&view](const pipeline::Session& session) { view->FollowSession(session); };
     hooks.frame_tracked = [&view](std::size_t index, const core::RgbdFrame& frame,
                                   const pipeline::FrameOutcome& outcome) {
       view->Publish(viewer::SnapshotOf(index, frame, outcome));
     };
-    hooks.finished = [&view](const pipeline::Session& session) {
-      view->FinalMap(session.system().ViewAtlas(), session.summary().main_map);
-    };
+    hooks.finished = [&view](const pipeline::Session& session) { view->FinalMapOf(session); };
   }
   const pipeline::RunSummary summary = pipeline::RunSequence(sequence, *detector, options, out.temporary(), hooks);
 

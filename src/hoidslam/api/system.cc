@@ -213,7 +213,7 @@ class System::Impl {
         session_(std::make_unique<pipeline::Session>(run_options_, detector_.get(), std::filesystem::path())),
         given_(options.detector == DetectorKind::kGiven),
         viewer_(MakeViewer(options, run_options_)) {
-    if (viewer_) FollowSession();
+    if (viewer_) viewer_->FollowSession(*session_);
   }
 
   FrameResult Track(const ImageView& rgb, const ImageView& depth, double timestamp,
@@ -258,7 +258,7 @@ class System::Impl {
     seconds_ = index_ == 0 ? 0.0 : clock_.ElapsedMilliseconds() / 1000.0;
     session_->Finish();
     if (viewer_) {
-      viewer_->FinalMap(session_->system().ViewAtlas(), session_->summary().main_map);
+      viewer_->FinalMapOf(*session_);
       viewer_->RunFinished();
     }
   }
@@ -311,7 +311,7 @@ class System::Impl {
     last_timestamp_ = 0.0;
     seconds_ = 0.0;
     frame_log_.clear();
-    if (viewer_) FollowSession();
+    if (viewer_) viewer_->FollowSession(*session_);
   }
 
   std::string ViewerUrl() const { return viewer_ ? viewer_->url() : std::string(); }
@@ -332,10 +332,6 @@ class System::Impl {
     view.port = options.view->port;
     // The program gives the frames: the page cannot pause them.
     return std::make_unique<viewer::Viewer>(view, viewer::ViewerHello{"api", 0, run_options.system.camera}, nullptr);
-  }
-
-  void FollowSession() {
-    viewer_->FollowMap([session = session_.get()] { return session->system().ViewAtlas(); });
   }
 
   mutable std::mutex mutex_;

@@ -108,7 +108,7 @@ MaskExportSummary ExportMasks(const io::RgbdSequence& sequence, detect::Detector
   options.Check();
   // Run's own exclusion: the same checks (an oracle needs mask/), and the same verdicts on the detections.
   KeypointExclusion exclusion(options.exclusion, sequence.root(), options.camera);
-  const std::size_t total = options.max_frames == 0 ? sequence.size() : std::min(options.max_frames, sequence.size());
+  const std::size_t total = FramesToPlay(options.max_frames, sequence.size());
   if (options.format == MaskFormat::kDynaslam) CheckDynaslamNames(sequence, total);
 
   io::AtomicFolder folder(options.out, options.force, "--out", "use --force to replace it");

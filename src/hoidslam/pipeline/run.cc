@@ -103,6 +103,10 @@ std::optional<std::string> DetectOrKeepPrevious(detect::Detector& detector, cons
   }
 }
 
+std::size_t FramesToPlay(std::size_t max_frames, std::size_t frames) {
+  return max_frames == 0 ? frames : std::min(max_frames, frames);
+}
+
 void CheckImageSize(const core::RgbdFrame& frame, const RunOptions& options) {
   const core::CameraIntrinsics& camera = options.system.camera;
   if (frame.rgb.cols == camera.width && frame.rgb.rows == camera.height) return;
@@ -124,7 +128,7 @@ RunSummary RunSequence(const io::RgbdSequence& sequence, detect::Detector& detec
   io::AtomicFile log(folder / "frames.jsonl");
   if (options.snapshots > 0) std::filesystem::create_directories(folder / "snapshots");
 
-  const std::size_t total = options.max_frames == 0 ? sequence.size() : std::min(options.max_frames, sequence.size());
+  const std::size_t total = FramesToPlay(options.max_frames, sequence.size());
   RunSummary& summary = session.summary();
   summary.times.reserve(total);
   // A paced replay decodes its first frames before the run's clock starts, as a camera is ready before it streams.

@@ -96,6 +96,9 @@ struct RunOptions {
   void Check() const;
 };
 
+// How many frames of a sequence of `frames` a run of at most `max_frames` (0: no limit) plays.
+std::size_t FramesToPlay(std::size_t max_frames, std::size_t frames);
+
 // Throws InputError naming the colour image of `frame` when it is not of the camera's size (the settings are
 // another camera's), and the settings it came from (RunOptions::settings_source). RunSequence checks every frame.
 void CheckImageSize(const core::RgbdFrame& frame, const RunOptions& options);

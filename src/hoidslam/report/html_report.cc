@@ -622,7 +622,7 @@ std::string ViewerData(const RunReport& report) {
       {"map",
        {{"full", true},
         {"main_map", 0},
-        {"maps", {{{"id", 0}, {"keyframes", map.keyframes.size()}, {"points", map.points.size()}}}},
+        {"maps", json::array({MapCountsJson(0, map.points.size(), map.keyframes.size())})},
         {"points", std::move(points).ToJson()},
         {"keyframes", std::move(keyframes)}}}};
   std::string text = data.dump(-1, ' ', false, json::error_handler_t::replace);

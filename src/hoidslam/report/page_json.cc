@@ -32,6 +32,10 @@ nlohmann::json KeyframeJson(std::uint64_t id, std::uint32_t map, const core::Pos
   return {{"id", id}, {"map", map}, {"T_wc", PoseJson(T_wc)}};
 }
 
+nlohmann::json MapCountsJson(std::uint32_t map, std::size_t points, std::size_t keyframes) {
+  return {{"id", map}, {"points", points}, {"keyframes", keyframes}};
+}
+
 void PointsJson::Add(std::uint64_t id, std::uint32_t map, const Eigen::Vector3d& position, const cv::Vec3b& bgr) {
   ids_.push_back(id);
   maps_.push_back(map);

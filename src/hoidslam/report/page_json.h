@@ -32,6 +32,9 @@ nlohmann::json HelloJson(std::string_view sequence, std::size_t total_frames, co
 // One of a map message's `keyframes`.
 nlohmann::json KeyframeJson(std::uint64_t id, std::uint32_t map, const core::Pose& T_wc);
 
+// One of a map message's `maps`: a map and its counts.
+nlohmann::json MapCountsJson(std::uint32_t map, std::size_t points, std::size_t keyframes);
+
 // A map message's `points` (ids, map, xyz to 0.1 mm, rgb), one point at a time.
 class PointsJson {
  public:

@@ -113,7 +113,7 @@ std::string AtlasHistory::EventJsonSince(std::uint64_t since) const {
   }
   nlohmann::json maps = nlohmann::json::array();
   for (const auto& [map, count] : counts) {
-    maps.push_back({{"id", map}, {"points", count.first}, {"keyframes", count.second}});
+    maps.push_back(report::MapCountsJson(map, count.first, count.second));
   }
   nlohmann::json event = {{"revision", revision_},
                           {"full", full},

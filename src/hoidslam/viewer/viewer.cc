@@ -206,7 +206,7 @@ class Viewer::Impl {
       ++frames_sent_;
     }
     if (connection.status != status_sequence) {
-      news += Event("status", StatusJson());
+      news += Event("status", Status().dump());
       connection.status = status_sequence;
     }
     if (news.empty()) news = ": nothing new\n\n";
@@ -223,15 +223,14 @@ class Viewer::Impl {
     return frame_json_;
   }
 
-  std::string StatusJson() const {
+  nlohmann::json Status() const {
     const pipeline::Playback::State playback = playback_ != nullptr ? playback_->state() : pipeline::Playback::State{};
     const std::lock_guard lock(mutex_);
     return nlohmann::json{{"state", finished_ ? "finished" : "running"},
                           {"paused", playback.paused},
                           {"speed", playback.speed},
                           {"frames_done", frames_done_},
-                          {"total_frames", total_frames_}}
-        .dump();
+                          {"total_frames", total_frames_}};
   }
 
   void Control(const std::string& body, httplib::Response& response) {
@@ -267,7 +266,7 @@ class Viewer::Impl {
       ++status_sequence_;
     }
     changed_.notify_all();
-    nlohmann::json status = nlohmann::json::parse(StatusJson());
+    nlohmann::json status = Status();
     status["ok"] = true;
     answer(200, std::move(status));
   }
@@ -352,6 +351,12 @@ std::string Viewer::url() const { return impl_->url(); }
 void Viewer::Publish(FrameSnapshot snapshot) { impl_->Publish(std::move(snapshot)); }
 void Viewer::FollowMap(std::function<slam::AtlasView()> read) { impl_->FollowMap(std::move(read)); }
 void Viewer::FinalMap(const slam::AtlasView& atlas, slam::MapId main_map) { impl_->FinalMap(atlas, main_map); }
+void Viewer::FollowSession(const pipeline::Session& session) {
+  FollowMap([&session] { return session.system().ViewAtlas(); });
+}
+void Viewer::FinalMapOf(const pipeline::Session& session) {
+  FinalMap(session.system().ViewAtlas(), session.summary().main_map);
+}
 void Viewer::RunFinished() { impl_->RunFinished(); }
 std::uint64_t Viewer::FramesSent() const { return impl_->FramesSent(); }
 

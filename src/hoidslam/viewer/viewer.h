@@ -15,6 +15,7 @@
 #include "hoidslam/core/camera.h"
 #include "hoidslam/core/shipped_dir.h"
 #include "hoidslam/pipeline/playback.h"
+#include "hoidslam/pipeline/session.h"
 #include "hoidslam/slam/system.h"
 #include "hoidslam/viewer/frame_snapshot.h"
 
@@ -60,6 +61,10 @@ class Viewer {
   // The map as the run's outputs have it; `main_map` is the map they write. Stops following; returns when no read
   // is under way, so the object `read` reads may go.
   void FinalMap(const slam::AtlasView& atlas, slam::MapId main_map);
+  // The same for a session (pipeline::Session): its map is followed until FinalMapOf, which shows it as the session
+  // writes it (its main map) and must come before the session goes.
+  void FollowSession(const pipeline::Session& session);
+  void FinalMapOf(const pipeline::Session& session);
   // The run's outputs are written: pages say so.
   void RunFinished();
 
