@@ -20,6 +20,8 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libopencv-dev libeigen3-dev libceres-dev
   libcli11-dev nlohmann-json3-dev libspdlog-dev libfmt-dev libssl-dev libcpp-httplib-dev
+  # dense mapping: Open3D's TSDF volume, OctoMap; Open3D's Python bindings open the meshes in the tests
+  libopen3d-dev liboctomap-dev python3-open3d
   libgtest-dev libgmock-dev libbenchmark-dev
   chromium parallel
   # the viewer's page (web/): npm installs three.js and esbuild at build time

@@ -1,0 +1,78 @@
+#include "hoidslam/dense/dense_options.h"
+
+#include <unistd.h>
+
+#include <fmt/format.h>
+
+#include "hoidslam/core/error.h"
+#include "hoidslam/core/option_checks.h"
+
+namespace hoidslam::dense {
+
+namespace {
+
+constexpr double kMiB = 1024.0 * 1024.0;
+
+std::size_t HalfThePhysicalMemoryMb() {
+  const long pages = sysconf(_SC_PHYS_PAGES);
+  const long page_size = sysconf(_SC_PAGE_SIZE);
+  if (pages <= 0 || page_size <= 0) return 4096;  // unknown: assume a small machine
+  return static_cast<std::size_t>(static_cast<double>(pages) * static_cast<double>(page_size) / kMiB / 2.0);
+}
+
+}  // namespace
+
+void OccupancyOptions::Check() const {
+  core::CheckInRange(resolution, 0.005, 1.0, "--occupancy-resolution");
+  if (!(band_low < band_high)) {
+    throw core::InputError::ForParameter(
+        "--occupancy-band", fmt::format("the band's low edge must lie below its high edge, got {}:{}", band_low, band_high));
+  }
+  if (pixel_step < 1) throw core::InputError::ForParameter("occupancy pixel step", fmt::format("must be >= 1, got {}", pixel_step));
+}
+
+double VolumeBytesPerSquareMetre(double voxel_size) {
+  // Measured on walking_xyz (docs/dense.md): 90 blocks of 16³ voxels per m² of surface at 1 cm with a four-voxel
+  // truncation, 2.3 times one layer of blocks (surfaces cross blocks at a slant, the truncation band is thick);
+  // a coloured voxel takes 32 bytes.
+  constexpr double kBlockLayers = 2.5;
+  constexpr double kBlockVoxels = 16.0;
+  constexpr double kVoxelBytes = 32.0;
+  const double block_edge = kBlockVoxels * voxel_size;
+  return kBlockLayers / (block_edge * block_edge) * kBlockVoxels * kBlockVoxels * kBlockVoxels * kVoxelBytes;
+}
+
+std::size_t DenseOptions::MemoryLimitMb() const {
+  return memory_limit_mb > 0 ? memory_limit_mb : HalfThePhysicalMemoryMb();
+}
+
+void DenseOptions::Check() const {
+  core::CheckPositive(voxel_size, "--dense-voxel");
+  if (!(truncation >= 2.0 * voxel_size)) {
+    throw core::InputError::ForParameter(
+        "--dense-truncation",
+        fmt::format("must be at least two voxels ({} m at --dense-voxel {}), got {}", 2.0 * voxel_size, voxel_size,
+                    truncation));
+  }
+  core::CheckPositive(min_depth, "--dense-min-depth");
+  if (!(min_depth < max_depth)) {
+    throw core::InputError::ForParameter(
+        "--dense-max-depth", fmt::format("must lie beyond --dense-min-depth {}, got {}", min_depth, max_depth));
+  }
+  if (mask_margin < 0) {
+    throw core::InputError::ForParameter("--dense-mask-margin", fmt::format("must be >= 0, got {}", mask_margin));
+  }
+  core::CheckPositive(depth_edge, "dense depth edge");
+  const double room_mb = kReferenceRoomSurface * VolumeBytesPerSquareMetre(voxel_size) / kMiB;
+  const std::size_t limit = MemoryLimitMb();
+  if (room_mb > static_cast<double>(limit)) {
+    throw core::InputError::ForParameter(
+        "--dense-voxel",
+        fmt::format("a volume of {} m voxels takes about {:.0f} MiB for a room of {:.0f} m² of surface, more than the "
+                    "{} MiB it may use (--dense-memory-mb; default half of this machine's memory): use larger voxels",
+                    voxel_size, room_mb, kReferenceRoomSurface, limit));
+  }
+  occupancy.Check();
+}
+
+}  // namespace hoidslam::dense

@@ -1,0 +1,58 @@
+#pragma once
+// What `hoidslam run --dense` builds and how finely (docs/dense.md): a truncated signed distance volume of the
+// static world fused from the keyframes' depth and colour, its mesh and dense cloud, and an occupancy map in 3D
+// (OctoMap) and 2D (a grid over a height band, as ROS map_server and Nav2 read it).
+
+#include <cstddef>
+
+namespace hoidslam::dense {
+
+// The 3D and 2D occupancy maps (occupancy.h).
+struct OccupancyOptions {
+  double resolution = 0.05;  // m: OctoMap's leaf size and the 2D grid's cell size (--occupancy-resolution)
+  // The height band, m above the floor, whose occupied cells are obstacles in the 2D grid (--occupancy-band
+  // LOW:HIGH): above the floor's own cells, up to what a robot of person height meets.
+  double band_low = 0.1;
+  double band_high = 1.8;
+  // Every pixel_step-th pixel in x and in y casts a ray into the 3D map: at 4, 19,200 rays a 640×480 keyframe.
+  int pixel_step = 4;
+
+  // Throws InputError naming the parameter (--occupancy-resolution, --occupancy-band).
+  void Check() const;
+};
+
+struct DenseOptions {
+  double voxel_size = 0.01;  // m, the volume's voxel edge (--dense-voxel)
+  // m, how far in front of and behind a surface a depth measurement updates the volume (--dense-truncation); at
+  // least two voxels, so that marching cubes finds the zero crossing.
+  double truncation = 0.04;
+  // The depth the sensor model trusts, m (--dense-min-depth, --dense-max-depth): beyond 3 m a Kinect-class
+  // sensor's noise (core::KinectDepthSigma) exceeds 1.3 voxels of 1 cm, and the volume grows with the square of
+  // the range.
+  double min_depth = 0.3;
+  double max_depth = 3.0;
+  // Pixels the dynamic regions grow by: the colour and depth images of a person's outline disagree by a pixel or
+  // two, and a detector's box edge by more (--dense-mask-margin).
+  int mask_margin = 4;
+  // A pixel whose 3×3 neighbourhood spans more than this share of its depth lies on a depth edge, where a sensor
+  // mixes foreground and background ("flying pixels"): left out.
+  double depth_edge = 0.05;
+  // How much memory the volume may take, MiB; a voxel size whose volume for a room would exceed it is refused
+  // before the run (--dense-memory-mb). 0: half of the machine's memory.
+  std::size_t memory_limit_mb = 0;
+  OccupancyOptions occupancy;
+
+  // The surface a volume must hold to be worth building: an office of 5 × 5 × 3 m has 110 m².
+  static constexpr double kReferenceRoomSurface = 100.0;
+
+  // memory_limit_mb, or half of the machine's memory when it is 0.
+  std::size_t MemoryLimitMb() const;
+  // Throws InputError naming the parameter: a voxel size <= 0, a truncation under two voxels, a depth range or
+  // height band upside down, a volume for kReferenceRoomSurface that would not fit in MemoryLimitMb().
+  void Check() const;
+};
+
+// What a volume of `voxel_size` voxels takes per m² of surface it holds, bytes (an estimate from measurements).
+double VolumeBytesPerSquareMetre(double voxel_size);
+
+}  // namespace hoidslam::dense

@@ -1,0 +1,58 @@
+#include "hoidslam/dense/dense_options.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "hoidslam/core/error.h"
+
+namespace hoidslam::dense {
+namespace {
+
+using ::testing::HasSubstr;
+
+// The message of the InputError `options.Check()` throws, or "" when it passes.
+std::string CheckMessage(const DenseOptions& options) {
+  try {
+    options.Check();
+  } catch (const core::InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(DenseOptions, TheDefaultsPass) { EXPECT_EQ(CheckMessage(DenseOptions{}), ""); }
+
+TEST(DenseOptions, EachBadValueIsNamedByItsParameter) {
+  const auto with = [](auto change) {
+    DenseOptions options;
+    change(options);
+    return CheckMessage(options);
+  };
+  EXPECT_THAT(with([](DenseOptions& o) { o.voxel_size = 0.0; }), HasSubstr("--dense-voxel"));
+  EXPECT_THAT(with([](DenseOptions& o) { o.voxel_size = -0.01; }), HasSubstr("--dense-voxel"));
+  EXPECT_THAT(with([](DenseOptions& o) { o.truncation = 0.015; }), HasSubstr("--dense-truncation"));
+  EXPECT_THAT(with([](DenseOptions& o) { o.max_depth = 0.2; }), HasSubstr("--dense-max-depth"));
+  EXPECT_THAT(with([](DenseOptions& o) { o.mask_margin = -1; }), HasSubstr("--dense-mask-margin"));
+  EXPECT_THAT(with([](DenseOptions& o) { o.occupancy.band_low = 2.0; }), HasSubstr("--occupancy-band"));
+  EXPECT_THAT(with([](DenseOptions& o) { o.occupancy.resolution = 0.0; }), HasSubstr("--occupancy-resolution"));
+}
+
+TEST(DenseOptions, AVolumeThatWouldNotFitInMemoryIsRefusedBeforeTheRun) {
+  DenseOptions options;
+  options.memory_limit_mb = 1500;
+  EXPECT_EQ(CheckMessage(options), "");  // 1 cm voxels: about 1.2 GiB for the reference room
+  options.voxel_size = 0.005;
+  options.truncation = 0.02;
+  const std::string message = CheckMessage(options);
+  EXPECT_THAT(message, HasSubstr("--dense-voxel"));
+  EXPECT_THAT(message, HasSubstr("1500 MiB"));
+}
+
+TEST(DenseOptions, TheVolumeEstimateGrowsWithTheInverseSquareOfTheVoxel) {
+  EXPECT_NEAR(VolumeBytesPerSquareMetre(0.005) / VolumeBytesPerSquareMetre(0.01), 4.0, 1e-9);
+  // The measured figure: about 12 MB per m² at 1 cm.
+  EXPECT_NEAR(VolumeBytesPerSquareMetre(0.01) / 1e6, 12.8, 0.5);
+}
+
+}  // namespace
+}  // namespace hoidslam::dense
