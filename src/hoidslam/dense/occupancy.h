@@ -19,13 +19,18 @@ namespace hoidslam::dense {
 
 // A 2D occupancy grid in the floor's frame (grid.T_fw: world → floor frame, z up, the floor at z = 0).
 struct OccupancyGrid {
+  static constexpr std::int8_t kUnknown = -1, kFree = 0, kOccupied = 100;
+
   double resolution = 0.05;                    // m a cell
   Eigen::Vector2d origin = Eigen::Vector2d::Zero();  // floor-frame x, y of the lower-left corner of cell (0, 0)
   int width = 0, height = 0;                   // cells; row 0 is the lowest y
-  // Per cell (row-major, row 0 lowest y): -1 unknown, 0 free, 100 occupied (ROS nav_msgs/OccupancyGrid values).
+  // Per cell (row-major, row 0 lowest y): kUnknown, kFree or kOccupied (ROS nav_msgs/OccupancyGrid values).
   std::vector<std::int8_t> cells;
   core::Pose T_fw = core::Pose::Identity();
 };
+
+// What the 3D map knows of a cell.
+enum class CellState { kUnknown, kFree, kOccupied };
 
 class OccupancyMap {
  public:
@@ -41,6 +46,8 @@ class OccupancyMap {
   // The centres of the occupied leaves (world), at the finest resolution.
   std::vector<Eigen::Vector3d> OccupiedCentres() const;
   std::size_t OccupiedLeaves() const;
+  // The state of the leaf holding p_w (world).
+  CellState At(const Eigen::Vector3d& p_w) const;
   // Writes the map as OctoMap's binary tree file (.bt: free and occupied, maximum likelihood), atomically.
   void WriteBinary(const std::filesystem::path& path) const;
 
@@ -55,7 +62,8 @@ class OccupancyMap {
 
 // Writes `grid` as <stem>.pgm (occupied 0, free 254, unknown 205; the top image row is the highest y) and
 // <stem>.yaml (image, resolution, origin [x, y, yaw], negate, occupied_thresh, free_thresh, mode trinary), both
-// atomically; the YAML also records grid.T_fw so that a user can place the grid in the SLAM world frame.
+// atomically; the YAML also records grid.T_fw so that a user can place the grid in the SLAM world frame. Throws
+// InputError naming the file that cannot be written, or `pgm` for an empty grid (no depth in the height band).
 void WriteOccupancyGrid(const OccupancyGrid& grid, const std::filesystem::path& pgm, const std::filesystem::path& yaml);
 
 }  // namespace hoidslam::dense
