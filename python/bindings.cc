@@ -380,13 +380,14 @@ realtime: the detector in its own thread; deterministic: byte-identical results 
 load_map: a map file (save_map, hoidslam run --save-map) to start from; localization: track against it unchanged.
 view: a live viewer in the browser (docs/viewer.md): True serves it on port 8787, a number on that port (0: any
 free one); viewer_url says where. view_address: 127.0.0.1 (this machine only), or 0.0.0.0 for every machine.
+dense: save also writes the static world densely (docs/dense.md): True at 1 cm voxels, a number at that voxel size (m).
 Threads may share it: track calls run one at a time (a frame not newer than the last one tracked raises an
 InputError naming timestamp), and trajectory(), keyframes() and map_points() read between two frames.)")
       .def(py::init([](const py::object& settings, const py::object& camera, const py::object& filter,
                        const py::object& detector, const py::object& model, const py::object& realtime,
                        const py::object& deterministic, const py::object& keypoint_budget,
                        const py::object& vocabulary, const py::object& load_map, const py::object& localization,
-                       const py::object& view, const py::object& view_address) {
+                       const py::object& view, const py::object& view_address, const py::object& dense) {
              Options options;
              options.settings = PathArgument(settings, "settings");
              if (!camera.is_none()) {
@@ -412,13 +413,22 @@ InputError naming timestamp), and trajectory(), keyframes() and map_points() rea
                throw InputError::ForParameter("view", "must be True, False or a port number, got " + TypeName(view));
              }
              if (options.view) options.view->address = ValueArgument<std::string>(view_address, "view_address", "a str");
+             if (py::isinstance<py::bool_>(dense)) {
+               if (dense.cast<bool>()) options.dense.emplace();
+             } else if (py::isinstance<py::float_>(dense) || py::isinstance<py::int_>(dense)) {
+               options.dense.emplace().voxel_size = dense.cast<double>();
+             } else {
+               throw InputError::ForParameter("dense", "must be True, False or a voxel size in metres, got " +
+                                                           TypeName(dense));
+             }
              py::gil_scoped_release release;  // loading the vocabulary and the model takes a moment
              return System(options);
            }),
            py::kw_only(), py::arg("settings") = py::none(), py::arg("camera") = py::none(), py::arg("filter") = "", py::arg("detector") = "given",
            py::arg("model") = py::none(), py::arg("realtime") = false, py::arg("deterministic") = false,
            py::arg("keypoint_budget") = "static", py::arg("vocabulary") = py::none(), py::arg("load_map") = py::none(),
-           py::arg("localization") = false, py::arg("view") = false, py::arg("view_address") = "127.0.0.1")
+           py::arg("localization") = false, py::arg("view") = false, py::arg("view_address") = "127.0.0.1",
+           py::arg("dense") = false)
       .def(
           "track",
           [](System& system, const py::object& rgb, const py::object& depth, const py::object& timestamp,

@@ -21,6 +21,7 @@
 #include "hoidslam/core/error.h"
 #include "hoidslam/core/interrupt.h"
 #include "hoidslam/core/shipped_dir.h"
+#include "hoidslam/dense/dense_mapper.h"
 #include "hoidslam/eval/evaluation.h"
 #include "hoidslam/eval/loop_recall.h"
 #include "hoidslam/eval/pose_check.h"
@@ -70,6 +71,9 @@ struct RunArgs {
   bool view = false;
   viewer::ViewerOptions view_options;
   bool view_keep = false;
+  bool dense = false;
+  dense::DenseOptions dense_options;
+  std::string occupancy_band;
 };
 
 // --camera fx,fy,cx,cy[,k1,k2,p1,p2,k3] in place of the settings' camera, at the size of the sequence's images; the
@@ -151,6 +155,14 @@ void RunRun(const RunArgs& args) {
     }
   }
 
+  // The dense map's options are checked before the run: a volume too big for memory is said now.
+  std::unique_ptr<dense::DenseMapper> dense_mapper;
+  if (args.dense) {
+    dense::DenseOptions dense_options = args.dense_options;
+    if (!args.occupancy_band.empty()) dense::SetOccupancyBand(args.occupancy_band, dense_options.occupancy);
+    dense_mapper = std::make_unique<dense::DenseMapper>(dense_options, options.system.camera);
+  }
+
   // The viewer listens before the run starts: a port that is taken is said before any tracking.
   pipeline::Playback playback;
   std::unique_ptr<viewer::Viewer> view;
@@ -167,16 +179,26 @@ void RunRun(const RunArgs& args) {
   }
   core::InterruptGuard interrupts;
   pipeline::RunHooks hooks{.stop_requested = [&interrupts] { return interrupts.requested(); }};
-  if (view) {
-    hooks.playback = &playback;
-    hooks.started = [&view](const pipeline::Session& session) { view->FollowSession(session); };
-    hooks.frame_tracked = [&view](std::size_t index, const core::RgbdFrame& frame,
-                                  const pipeline::FrameOutcome& outcome) {
-      view->Publish(viewer::SnapshotOf(index, frame, outcome));
+  const pipeline::Session* session = nullptr;
+  core::Trajectory final_keyframes;  // the dense map is fused at the keyframes' final poses, once the run is done
+  if (view) hooks.playback = &playback;
+  if (view || dense_mapper) {
+    hooks.started = [&](const pipeline::Session& started) {
+      session = &started;
+      if (view) view->FollowSession(started);
     };
-    hooks.finished = [&view](const pipeline::Session& session) { view->FinalMapOf(session); };
+    hooks.frame_tracked = [&](std::size_t index, const core::RgbdFrame& frame, const pipeline::FrameOutcome& outcome) {
+      if (view) view->Publish(viewer::SnapshotOf(index, frame, outcome));
+      if (dense_mapper) dense_mapper->TakeKeyFrame(*session, frame, outcome);
+    };
+    hooks.finished = [&](const pipeline::Session& finished) {
+      if (view) view->FinalMapOf(finished);
+      if (dense_mapper) final_keyframes = finished.system().KeyFrameTrajectory();
+    };
   }
   const pipeline::RunSummary summary = pipeline::RunSequence(sequence, *detector, options, out.temporary(), hooks);
+  std::optional<dense::DenseSummary> dense_summary;
+  if (dense_mapper) dense_summary = dense_mapper->Build(final_keyframes, out.temporary());
 
   nlohmann::json json = pipeline::RunSummaryJson(summary, sequence.name(), options.exclusion.ModeName(),
                                                  detector->Name(), options.realtime);
@@ -188,6 +210,7 @@ void RunRun(const RunArgs& args) {
                                                  .vocabulary = args.vocabulary,
                                                  .vocabulary_identity = summary.vocabulary_identity,
                                                  .detector_source = detector->Source()});
+  if (dense_summary) json["dense"] = dense::DenseSummaryJson(*dense_summary, dense_mapper->options());
   std::optional<eval::Evaluation> evaluation;
   std::optional<eval::PoseCheck> relocalizations, loops, merges;
   std::optional<eval::LoopRecall> loop_recall;
@@ -259,6 +282,9 @@ void RunRun(const RunArgs& args) {
   for (const slam::MapSummary& map : summary.maps) {
     if (map.id != summary.main_map) written.push_back(pipeline::OtherMapTrajectoryName(map.id));
   }
+  if (dense_summary && dense_summary->written) {
+    for (const char* file : dense::kDenseOutputs) written.push_back(file);
+  }
   if (fs::is_directory(out.temporary() / "snapshots")) written.push_back("snapshots/");
   try {
     report::WriteRunReport(out.temporary(), evaluation ? groundtruth : fs::path(), out.temporary() / "report.html",
@@ -307,6 +333,7 @@ void RunRun(const RunArgs& args) {
              "tracking (extract + filter + track) {:.2f}\n",
              ms["load"].get<double>(), ms["extract"].get<double>(), ms["detect"].get<double>(),
              ms["filter"].get<double>(), ms["track"].get<double>(), ms["tracking_total"].get<double>());
+  if (dense_summary) fmt::print("{}\n", dense::FormatDenseSummary(*dense_summary, dense_mapper->options()));
   if (evaluation) fmt::print("{}", eval::FormatEvaluation(*evaluation));
   if (relocalizations && !relocalizations->poses.empty()) {
     fmt::print("relocalisations: {}, {} of them false (more than {:g} m or {:g}° from the ground truth)\n",
@@ -471,6 +498,45 @@ void AddRunCommand(CLI::App& app) {
   command->add_flag("--view-keep", args->view_keep,
                     "With --view: once the outputs are written, keep showing the final map until Ctrl-C (exit 0)")
       ->needs(view);
+  CLI::Option* dense = command->add_flag(
+      "--dense", args->dense,
+      "Also map the static world densely, people and what they carry left out: mesh.ply (coloured triangles), "
+      "cloud.ply, occupancy.bt (OctoMap) and occupancy.pgm + .yaml (a 2D grid as ROS map_server reads it), fused from "
+      "the keyframes at their final poses (docs/dense.md)");
+  command->add_option("--dense-voxel", args->dense_options.voxel_size, "With --dense: the volume's voxel edge, m")
+      ->capture_default_str()
+      ->needs(dense);
+  command->add_option("--dense-truncation", args->dense_options.truncation,
+                      "With --dense: how far in front of and behind a surface a depth measurement counts, m (at least "
+                      "two voxels)")
+      ->capture_default_str()
+      ->needs(dense);
+  command->add_option("--dense-min-depth", args->dense_options.min_depth,
+                      "With --dense: depth nearer than this is not fused, m")
+      ->capture_default_str()
+      ->needs(dense);
+  command->add_option("--dense-max-depth", args->dense_options.max_depth,
+                      "With --dense: depth farther than this is not fused, m (the sensor's noise grows with the square "
+                      "of the depth)")
+      ->capture_default_str()
+      ->needs(dense);
+  command->add_option("--dense-mask-margin", args->dense_options.mask_margin,
+                      "With --dense: pixels the regions the filter drops grow by before fusion")
+      ->capture_default_str()
+      ->needs(dense);
+  command->add_option("--dense-memory-mb", args->dense_options.memory_limit_mb,
+                      "With --dense: memory the volume may take, MiB; a voxel size that would need more for a room is "
+                      "refused before the run (0: half of this machine's memory)")
+      ->capture_default_str()
+      ->needs(dense);
+  command->add_option("--occupancy-resolution", args->dense_options.occupancy.resolution,
+                      "With --dense: the occupancy maps' cell size, m")
+      ->capture_default_str()
+      ->needs(dense);
+  command->add_option("--occupancy-band", args->occupancy_band,
+                      "With --dense: LOW:HIGH, the heights above the floor (m) whose occupied cells are obstacles in "
+                      "the 2D grid (default 0.1:1.8)")
+      ->needs(dense);
   command->callback([args] { RunRun(*args); });
 }
 

@@ -149,13 +149,16 @@ class System:
         localization: bool = False,
         view: bool | int = False,
         view_address: str = "127.0.0.1",
+        dense: bool | float = False,
     ) -> None:
         """settings: ORB-SLAM3-style YAML (shipped_dir()/"config/TUM3.yaml"); None: TUM fr3 defaults.
         camera: a Camera from the SDK's values, in place of the settings' camera, depth factor and baseline.
         filter: none, person, classes, hoid2d, hoid3d, hoidplus; "": the settings' HOID.mode, else hoidplus.
         detector: "given" (detections passed to track), "onnx" (model runs inside), "none".
         realtime: the detector in its own thread. deterministic: byte-identical results on every run.
-        view: the live viewer in a browser: True on port 8787, a number on that port (0: any free one)."""
+        view: the live viewer in a browser: True on port 8787, a number on that port (0: any free one).
+        dense: save also writes the static world densely (mesh.ply, cloud.ply, occupancy.*): True at 1 cm voxels,
+        a number at that voxel size in metres."""
     def track(
         self,
         rgb: npt.NDArray[np.uint8],

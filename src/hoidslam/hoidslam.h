@@ -119,6 +119,16 @@ struct View {
   int port = 8787;                     // 0: a free port (System::ViewerUrl says which)
 };
 
+// The dense map of the static world that Save writes beside the trajectory (Options::dense; docs/dense.md): mesh.ply,
+// cloud.ply, occupancy.bt, occupancy.pgm and occupancy.yaml, fused from the keyframes at their final poses with
+// people and what they carry left out. Bad values get an InputError naming the `hoidslam run` flag (--dense-voxel...).
+struct Dense {
+  double voxel_size = 0.01;            // m
+  double max_depth = 3.0;              // m: farther depth is not fused
+  double occupancy_resolution = 0.05;  // m
+  double band_low = 0.1, band_high = 1.8;  // m above the floor: the 2D grid's obstacles
+};
+
 struct Options {
   // ORB-SLAM3-style YAML with a HOID section (e.g. ShippedDir() / "config/TUM3.yaml"); empty: the TUM fr3 camera
   // and the default ORB and HOID settings.
@@ -150,6 +160,9 @@ struct Options {
   // A live viewer of the session in a browser (docs/viewer.md), served while the System lives: the map, the current
   // frame with its keypoints kept and dropped, the boxes and their verdicts. nullopt: none (no thread, no copies).
   std::optional<View> view;
+  // Keyframes kept (their images, compressed, about 0.7 MB each) and fused densely when the session is saved.
+  // nullopt: none.
+  std::optional<Dense> dense;
 };
 
 // A camera pose at a time: camera to world, as a row of a TUM trajectory file.
@@ -263,7 +276,8 @@ class System {
   // Writes what `hoidslam run` writes for a sequence without ground truth into `folder` (created when missing),
   // each file complete or absent: trajectory.txt, keyframes.txt, map.ply, frames.jsonl, summary.json (with its
   // provenance: the settings or camera, the vocabulary, the detector's model) and report.html, so that `hoidslam
-  // report` and `bench` read the folder. Finishes first. InputError naming the folder when it cannot be made.
+  // report` and `bench` read the folder, and with Options::dense the dense map. Finishes first. InputError naming
+  // the folder when it cannot be made.
   void Save(const std::filesystem::path& folder);
   // Writes the map to a map file Options::load_map (and `hoidslam run --load-map`) start from. Finishes first.
   // InputError naming the file when it cannot be written.

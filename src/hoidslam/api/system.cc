@@ -16,6 +16,7 @@
 #include "hoidslam/api/convert.h"
 #include "hoidslam/core/shipped_dir.h"
 #include "hoidslam/core/stopwatch.h"
+#include "hoidslam/dense/dense_mapper.h"
 #include "hoidslam/detect/make_detector.h"
 #include "hoidslam/io/atomic_file.h"
 #include "hoidslam/io/settings.h"
@@ -212,7 +213,8 @@ class System::Impl {
         detector_(MakeDetector(options)),
         session_(std::make_unique<pipeline::Session>(run_options_, detector_.get(), std::filesystem::path())),
         given_(options.detector == DetectorKind::kGiven),
-        viewer_(MakeViewer(options, run_options_)) {
+        viewer_(MakeViewer(options, run_options_)),
+        dense_(MakeDenseMapper(options, run_options_)) {
     if (viewer_) viewer_->FollowSession(*session_);
   }
 
@@ -248,6 +250,7 @@ class System::Impl {
       snapshot.image = snapshot.image.clone();  // it may be the program's memory, which it reuses after Track
       viewer_->Publish(std::move(snapshot));
     }
+    if (dense_) dense_->TakeKeyFrame(*session_, frame, outcome);
     last_timestamp_ = timestamp;
     frame_log_.push_back(outcome.entry.dump());
     return ToFrameResult(index_++, timestamp, outcome);
@@ -280,6 +283,10 @@ class System::Impl {
     nlohmann::json json = pipeline::RunSummaryJson(summary, "api", run_options_.exclusion.ModeName(),
                                                    detector_ ? detector_->Name() : (given_ ? "given" : "none"),
                                                    run_options_.realtime);
+    if (dense_) {
+      json["dense"] = dense::DenseSummaryJson(dense_->Build(session_->system().KeyFrameTrajectory(), folder),
+                                              dense_->options());
+    }
     json["provenance"] = pipeline::ProvenanceJson(
         {.version = HOIDSLAM_VERSION,
          .settings_file = options_.settings,
@@ -312,6 +319,7 @@ class System::Impl {
     seconds_ = 0.0;
     frame_log_.clear();
     if (viewer_) viewer_->FollowSession(*session_);
+    dense_ = MakeDenseMapper(options_, run_options_);  // the keyframes kept were the old session's
   }
 
   std::string ViewerUrl() const { return viewer_ ? viewer_->url() : std::string(); }
@@ -334,6 +342,19 @@ class System::Impl {
     return std::make_unique<viewer::Viewer>(view, viewer::ViewerHello{"api", 0, run_options.system.camera}, nullptr);
   }
 
+  static std::unique_ptr<dense::DenseMapper> MakeDenseMapper(const Options& options,
+                                                             const pipeline::RunOptions& run_options) {
+    if (!options.dense) return nullptr;
+    dense::DenseOptions dense;
+    dense.voxel_size = options.dense->voxel_size;
+    dense.truncation = 4.0 * dense.voxel_size;  // the command's default ratio
+    dense.max_depth = options.dense->max_depth;
+    dense.occupancy.resolution = options.dense->occupancy_resolution;
+    dense.occupancy.band_low = options.dense->band_low;
+    dense.occupancy.band_high = options.dense->band_high;
+    return std::make_unique<dense::DenseMapper>(dense, run_options.system.camera);
+  }
+
   mutable std::mutex mutex_;
   Options options_;
   io::Settings settings_;
@@ -348,6 +369,7 @@ class System::Impl {
   // Each frame's line of frames.jsonl, as `hoidslam run` writes it (a few hundred bytes a frame).
   std::vector<std::string> frame_log_;
   std::unique_ptr<viewer::Viewer> viewer_;  // after the session: it stops reading the session before it goes
+  std::unique_ptr<dense::DenseMapper> dense_;
 };
 
 System::System(const Options& options) : impl_(std::make_unique<Impl>(options)) {}

@@ -2,6 +2,9 @@
 
 #include <unistd.h>
 
+#include <stdexcept>
+#include <string>
+
 #include <fmt/format.h>
 
 #include "hoidslam/core/error.h"
@@ -31,6 +34,24 @@ void OccupancyOptions::Check() const {
   if (pixel_step < 1) throw core::InputError::ForParameter("occupancy pixel step", fmt::format("must be >= 1, got {}", pixel_step));
 }
 
+void SetOccupancyBand(std::string_view text, OccupancyOptions& options) {
+  const std::size_t colon = text.find(':');
+  double low = 0.0, high = 0.0;
+  std::size_t low_end = 0, high_end = 0;
+  try {
+    if (colon == std::string_view::npos) throw std::invalid_argument("no colon");
+    const std::string low_text(text.substr(0, colon)), high_text(text.substr(colon + 1));
+    low = std::stod(low_text, &low_end);
+    high = std::stod(high_text, &high_end);
+    if (low_end != low_text.size() || high_end != high_text.size()) throw std::invalid_argument("trailing text");
+  } catch (const std::exception&) {
+    throw core::InputError::ForParameter(
+        "--occupancy-band", fmt::format("takes LOW:HIGH in metres above the floor, e.g. 0.1:1.8, got '{}'", text));
+  }
+  options.band_low = low;
+  options.band_high = high;
+}
+
 double VolumeBytesPerSquareMetre(double voxel_size) {
   // Measured on walking_xyz (docs/dense.md): 90 blocks of 16³ voxels per m² of surface at 1 cm with a four-voxel
   // truncation, 2.3 times one layer of blocks (surfaces cross blocks at a slant, the truncation band is thick);
@@ -58,6 +79,12 @@ void DenseOptions::Check() const {
   if (!(min_depth < max_depth)) {
     throw core::InputError::ForParameter(
         "--dense-max-depth", fmt::format("must lie beyond --dense-min-depth {}, got {}", min_depth, max_depth));
+  }
+  // The keyframes' depth is kept in half-millimetres of 16 bits until the build (dense_mapper.h).
+  if (max_depth > kMaxDepthLimit) {
+    throw core::InputError::ForParameter(
+        "--dense-max-depth", fmt::format("must be at most {} m, beyond what an RGB-D sensor measures, got {}",
+                                         kMaxDepthLimit, max_depth));
   }
   if (mask_margin < 0) {
     throw core::InputError::ForParameter("--dense-mask-margin", fmt::format("must be >= 0, got {}", mask_margin));

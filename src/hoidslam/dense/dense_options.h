@@ -4,6 +4,7 @@
 // (OctoMap) and 2D (a grid over a height band, as ROS map_server and Nav2 read it).
 
 #include <cstddef>
+#include <string_view>
 
 namespace hoidslam::dense {
 
@@ -20,6 +21,9 @@ struct OccupancyOptions {
   // Throws InputError naming the parameter (--occupancy-resolution, --occupancy-band).
   void Check() const;
 };
+
+// Parses --occupancy-band LOW:HIGH (metres above the floor) into `options`; throws InputError naming the parameter.
+void SetOccupancyBand(std::string_view text, OccupancyOptions& options);
 
 struct DenseOptions {
   double voxel_size = 0.01;  // m, the volume's voxel edge (--dense-voxel)
@@ -44,6 +48,7 @@ struct DenseOptions {
 
   // The surface a volume must hold to be worth building: an office of 5 × 5 × 3 m has 110 m².
   static constexpr double kReferenceRoomSurface = 100.0;
+  static constexpr double kMaxDepthLimit = 30.0;  // m
 
   // memory_limit_mb, or half of the machine's memory when it is 0.
   std::size_t MemoryLimitMb() const;

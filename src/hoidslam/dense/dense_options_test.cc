@@ -54,5 +54,21 @@ TEST(DenseOptions, TheVolumeEstimateGrowsWithTheInverseSquareOfTheVoxel) {
   EXPECT_NEAR(VolumeBytesPerSquareMetre(0.01) / 1e6, 12.8, 0.5);
 }
 
+TEST(SetOccupancyBand, ReadsLowColonHighAndNamesTheParameterOtherwise) {
+  OccupancyOptions options;
+  SetOccupancyBand("0.2:1.5", options);
+  EXPECT_DOUBLE_EQ(options.band_low, 0.2);
+  EXPECT_DOUBLE_EQ(options.band_high, 1.5);
+  SetOccupancyBand("-0.5:2", options);
+  EXPECT_DOUBLE_EQ(options.band_low, -0.5);
+  for (const char* bad : {"1.5", "a:b", "0.1:1.8m", ":1", ""}) {
+    EXPECT_THROW(SetOccupancyBand(bad, options), core::InputError) << bad;
+  }
+  SetOccupancyBand("1.8:0.1", options);  // read as given; Check() refuses it upside down
+  DenseOptions dense;
+  dense.occupancy = options;
+  EXPECT_THAT(CheckMessage(dense), HasSubstr("--occupancy-band"));
+}
+
 }  // namespace
 }  // namespace hoidslam::dense

@@ -175,6 +175,14 @@ cv::Mat KeypointExclusion::PaintDropped(const core::RgbdFrame& frame, const hoid
   return PaintDynamicBoxes(boxes.detections, boxes.decisions, frame.rgb.size());
 }
 
+cv::Mat KeypointExclusion::StaticMapExclusion(const core::RgbdFrame& frame, const hoid::JudgedBoxes& boxes) const {
+  if (!options_.oracle) return PaintDropped(frame, boxes);
+  cv::Mat left_out;
+  cv::compare(MovingMask(frame), 0, left_out, cv::CMP_NE);
+  if (ScoresStillPeople()) left_out.setTo(255, ReadMask(people_folder_, frame, "people mask", people_));
+  return left_out;
+}
+
 cv::Mat KeypointExclusion::DynamicPixels(const core::RgbdFrame& frame, const hoid::JudgedBoxes& boxes,
                                          std::span<const cv::KeyPoint> keypoints,
                                          std::span<const std::uint8_t> keep) const {

@@ -94,6 +94,10 @@ class KeypointExclusion {
   // The pixels the frame last marked drops, CV_8UC1 255 = dropped (not for oracle, whose mask is its own):
   // the dynamic boxes, or for hoidplus with depth their foreground regions.
   cv::Mat PaintDropped(const core::RgbdFrame& frame, const hoid::JudgedBoxes& boxes) const;
+  // What the static map (dense/) leaves out of the frame last marked, CV_8UC1 255 = left out: what PaintDropped
+  // paints; for oracle the moving mask and every person, still or not (people/, when the sequence has it), since
+  // the static world it is measured against holds no person.
+  cv::Mat StaticMapExclusion(const core::RgbdFrame& frame, const hoid::JudgedBoxes& boxes) const;
   // Where the frame last marked has something dynamic, CV_8UC1 255 = dynamic: a second extraction looks for no
   // keypoint there. The dynamic boxes whole (for hoidplus too: its depth test keeps what lies behind a person, but
   // the person's outline in colour, where the depth image has the background, is no place to look for more; on

@@ -153,6 +153,35 @@ TEST(KeypointExclusion, OracleDropsExactlyTheMaskedKeypointsAndIgnoresBoxes) {
   for (const hoid::Decision& d : decisions) EXPECT_FALSE(d.dynamic);
 }
 
+TEST(KeypointExclusion, TheStaticMapLeavesOutWhatTheFilterDropsAndForOracleEveryPerson) {
+  testing::TempDir dir;
+  std::filesystem::create_directories(dir / "mask");
+  std::filesystem::create_directories(dir / "people");
+  cv::Mat moving(480, 640, CV_8UC1, cv::Scalar(0));
+  moving(cv::Rect(490, 90, 20, 20)).setTo(255);  // the tv moves
+  cv::imwrite((dir / "mask" / "1.000000.png").string(), moving);
+  cv::Mat people(480, 640, CV_8UC1, cv::Scalar(0));
+  people(cv::Rect(100, 100, 150, 300)).setTo(255);  // a person sits still: static for tracking, not for the map
+  cv::imwrite((dir / "people" / "1.000000.png").string(), people);
+
+  std::vector<std::uint8_t> keep;
+  hoid::JudgedBoxes boxes;
+  ExclusionOptions oracle;
+  SetFilterMode("oracle", oracle);
+  KeypointExclusion by_oracle(oracle, dir.path());
+  by_oracle.Mark(Frame(), kDetections, kKeypoints, cv::Mat(), keep, boxes);
+  const cv::Mat left_out = by_oracle.StaticMapExclusion(Frame(), boxes);
+  EXPECT_EQ(cv::countNonZero(left_out), 20 * 20 + 150 * 300);
+  EXPECT_EQ(left_out.at<std::uint8_t>(200, 150), 255);
+
+  ExclusionOptions hoid2d;
+  SetFilterMode("hoid2d", hoid2d);
+  KeypointExclusion by_filter(hoid2d, dir.path());
+  by_filter.Mark(Frame(), kDetections, kKeypoints, cv::Mat(), keep, boxes);
+  const cv::Mat painted = by_filter.PaintDropped(Frame(), boxes);
+  EXPECT_EQ(cv::countNonZero(by_filter.StaticMapExclusion(Frame(), boxes) != painted), 0);
+}
+
 TEST(KeypointExclusion, ScoresAnyModeAgainstTheMovingMask) {
   testing::TempDir dir;
   std::filesystem::create_directories(dir / "mask");

@@ -326,6 +326,10 @@ void Session::Finish() {
   finished_ = true;
 }
 
+cv::Mat Session::StaticMapExclusion(const core::RgbdFrame& frame) const {
+  return exclusion_.StaticMapExclusion(frame, outcome_.boxes);
+}
+
 void Session::WriteOutputs(const std::filesystem::path& folder) {
   io::WriteTumTrajectory(folder / "trajectory.txt", system_->FrameTrajectory(summary_.main_map));
   for (const slam::MapSummary& map : summary_.maps) {

@@ -1,0 +1,156 @@
+#include "hoidslam/dense/dense_mapper.h"
+
+#include <algorithm>
+#include <exception>
+#include <optional>
+#include <stdexcept>
+
+#include <opencv2/imgcodecs.hpp>
+#include <spdlog/spdlog.h>
+
+#include "hoidslam/core/stopwatch.h"
+#include "hoidslam/dense/floor.h"
+#include "hoidslam/dense/fusible_depth.h"
+#include "hoidslam/dense/occupancy.h"
+
+// The OpenMP runtime Debian's Open3D is built with, libgomp (declared here rather than by an omp.h: the clang
+// builds of the sanitizers have none of GCC's).
+extern "C" void omp_set_num_threads(int threads);
+
+namespace hoidslam::dense {
+
+namespace {
+
+constexpr double kDepthUnitsPerMetre = 2000.0;  // the kept depth's unit: half a millimetre, up to 32 m
+constexpr int kJpegQuality = 95;
+// Timestamps of the same frame are the same double; a keyframe is found within a microsecond all the same.
+constexpr double kStampTolerance = 1e-6;
+constexpr std::size_t kFloorSampleStep = 4;
+
+}  // namespace
+
+DenseMapper::DenseMapper(const DenseOptions& options, const core::CameraIntrinsics& camera)
+    : options_(options), camera_(camera) {
+  options_.Check();
+  thread_ = std::thread([this] { Work(); });
+}
+
+DenseMapper::~DenseMapper() { Stop(); }
+
+void DenseMapper::Stop() {
+  {
+    std::lock_guard lock(mutex_);
+    stopping_ = true;
+  }
+  wake_.notify_all();
+  if (thread_.joinable()) thread_.join();
+}
+
+void DenseMapper::AddKeyFrame(const core::RgbdFrame& frame, const cv::Mat& left_out) {
+  // Copies: the caller's buffers (a program's own, through the API) may be reused once the frame is tracked.
+  Pending pending{frame.timestamp, frame.rgb.clone(), frame.depth.clone(), left_out.clone()};
+  {
+    std::lock_guard lock(mutex_);
+    if (stopping_) throw std::logic_error("DenseMapper::AddKeyFrame after Build");
+    queue_.push_back(std::move(pending));
+  }
+  wake_.notify_one();
+}
+
+void DenseMapper::TakeKeyFrame(const pipeline::Session& session, const core::RgbdFrame& frame,
+                               const pipeline::FrameOutcome& outcome) {
+  if (outcome.result.keyframe) AddKeyFrame(frame, session.StaticMapExclusion(frame));
+}
+
+void DenseMapper::Work() {
+  std::unique_lock lock(mutex_);
+  while (true) {
+    wake_.wait(lock, [this] { return stopping_ || !queue_.empty(); });
+    if (queue_.empty()) return;  // stopping, and nothing left
+    const Pending pending = std::move(queue_.front());
+    queue_.pop_front();
+    lock.unlock();
+    Prepared prepared = Prepare(pending);
+    lock.lock();
+    prepared_[pending.timestamp] = std::move(prepared);
+  }
+}
+
+DenseMapper::Prepared DenseMapper::Prepare(const Pending& pending) const {
+  Prepared prepared;
+  FusibleDepth(pending.depth, pending.left_out, options_).convertTo(prepared.depth, CV_16U, kDepthUnitsPerMetre);
+  cv::imencode(".jpg", pending.bgr, prepared.jpeg, {cv::IMWRITE_JPEG_QUALITY, kJpegQuality});
+  return prepared;
+}
+
+DenseSummary DenseMapper::Build(const core::Trajectory& keyframes, const std::filesystem::path& folder) {
+  Stop();  // every keyframe handed over is prepared once the thread has ended
+  // Open3D parallelises a view's integration over the volume's blocks with OpenMP, many short loops: with two
+  // threads on a 2-core machine that something else keeps busy, their barriers spin against each other and a
+  // keyframe took 2 s instead of 19 ms. So one OpenMP thread — in a thread of the mapper's own, so that the
+  // caller's OpenMP setting stays as it was.
+  DenseSummary summary;
+  std::exception_ptr failure;
+  std::thread builder([&] {
+    omp_set_num_threads(1);
+    try {
+      summary = Fuse(keyframes, folder);
+    } catch (...) {
+      failure = std::current_exception();
+    }
+  });
+  builder.join();
+  if (failure) std::rethrow_exception(failure);
+  return summary;
+}
+
+DenseSummary DenseMapper::Fuse(const core::Trajectory& keyframes, const std::filesystem::path& folder) const {
+
+  const core::Stopwatch clock;
+  DenseSummary summary;
+  for (const auto& [stamp, prepared] : prepared_) {
+    summary.held_megabytes += static_cast<double>(prepared.depth.total() * prepared.depth.elemSize() +
+                                                  prepared.jpeg.size()) / (1024.0 * 1024.0);
+  }
+  TsdfVolume volume(options_, camera_);
+  OccupancyMap occupancy(options_.occupancy);
+  std::optional<core::Pose> first_T_wc;
+  for (const core::StampedPose& keyframe : keyframes) {
+    const auto found = prepared_.lower_bound(keyframe.timestamp - kStampTolerance);
+    if (found == prepared_.end() || found->first > keyframe.timestamp + kStampTolerance) {
+      ++summary.keyframes_without_images;
+      continue;
+    }
+    const Prepared& prepared = found->second;
+    cv::Mat depth;
+    prepared.depth.convertTo(depth, CV_32F, 1.0 / kDepthUnitsPerMetre);
+    const cv::Mat bgr = cv::imdecode(prepared.jpeg, cv::IMREAD_COLOR);
+    const core::Stopwatch fuse;
+    volume.Integrate(bgr, depth, keyframe.T_wc);
+    occupancy.InsertDepth(depth, camera_, keyframe.T_wc);
+    summary.fuse_ms.push_back(fuse.ElapsedMilliseconds());
+    if (!first_T_wc) first_T_wc = keyframe.T_wc;
+    ++summary.keyframes;
+  }
+  summary.volume_blocks = volume.Blocks();
+  summary.volume_megabytes = static_cast<double>(volume.MemoryBytes()) / (1024.0 * 1024.0);
+  if (summary.volume_blocks == 0) {
+    // No keyframe, or nothing in any of them the sensor model trusts: no surface, so no file rather than empty ones.
+    spdlog::warn("dense: nothing to fuse ({} keyframes with images); no dense outputs", summary.keyframes);
+    summary.seconds = clock.ElapsedSeconds();
+    return summary;
+  }
+  summary.mesh = volume.WriteMesh(folder / "mesh.ply");
+  summary.cloud_points = volume.WriteCloud(folder / "cloud.ply");
+  occupancy.WriteBinary(folder / "occupancy.bt");
+  summary.occupied_cells = occupancy.OccupiedLeaves();
+  const FloorFrame floor =
+      EstimateFloor(volume.SamplePoints(kFloorSampleStep), first_T_wc.value_or(core::Pose::Identity()));
+  summary.floor_found = floor.found;
+  WriteOccupancyGrid(occupancy.Project(floor.T_fw), folder / "occupancy.pgm", folder / "occupancy.yaml");
+  summary.written = true;
+  summary.seconds = clock.ElapsedSeconds();
+  return summary;
+}
+
+}  // namespace hoidslam::dense

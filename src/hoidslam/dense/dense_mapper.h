@@ -1,0 +1,76 @@
+#pragma once
+// The dense map of a run: keyframes handed over as tracking makes them, prepared in the mapper's own thread (the
+// dynamic pixels and the depth the sensor model does not trust taken out, the images compressed), and fused once
+// the poses are final — after loop closing and the final adjustment, since Open3D cannot take a view back out of a
+// volume. Writes mesh.ply, cloud.ply, occupancy.bt, occupancy.pgm and occupancy.yaml (docs/dense.md).
+
+#include <condition_variable>
+#include <cstddef>
+#include <deque>
+#include <filesystem>
+#include <map>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include <opencv2/core/mat.hpp>
+
+#include "hoidslam/core/camera.h"
+#include "hoidslam/core/frame.h"
+#include "hoidslam/core/pose.h"
+#include "hoidslam/dense/dense_options.h"
+#include "hoidslam/dense/dense_summary.h"
+#include "hoidslam/pipeline/session.h"
+
+namespace hoidslam::dense {
+
+class DenseMapper {
+ public:
+  // Throws InputError when the options fail Check().
+  DenseMapper(const DenseOptions& options, const core::CameraIntrinsics& camera);
+  ~DenseMapper();  // stops the thread; what was handed over and not built is dropped
+  DenseMapper(const DenseMapper&) = delete;
+  DenseMapper& operator=(const DenseMapper&) = delete;
+
+  // One keyframe: its images (copied here, the rest happens in the mapper's thread) and the pixels the filter left
+  // out (CV_8UC1, non-zero = dynamic; empty: none).
+  // Throws std::logic_error after Build.
+  void AddKeyFrame(const core::RgbdFrame& frame, const cv::Mat& left_out);
+  // AddKeyFrame for a frame `session` just tracked when it became a keyframe, with what the session's filter left
+  // out of it (Session::StaticMapExclusion); the command and the API call it after each frame.
+  void TakeKeyFrame(const pipeline::Session& session, const core::RgbdFrame& frame,
+                    const pipeline::FrameOutcome& outcome);
+
+  // Waits for the keyframes handed over to be prepared, fuses those `keyframes` holds at the poses it gives
+  // (matched by timestamp; the map's final keyframes), and writes the outputs into `folder` (each file complete or
+  // absent). No keyframe can be added after it; it may be called again (the API's Save, once more).
+  DenseSummary Build(const core::Trajectory& keyframes, const std::filesystem::path& folder);
+
+  const DenseOptions& options() const { return options_; }
+
+ private:
+  // A keyframe as kept until the build: the depth in half-millimetres (0 = not fused), the colour as JPEG.
+  struct Prepared {
+    cv::Mat depth;
+    std::vector<unsigned char> jpeg;
+  };
+  struct Pending {
+    double timestamp = 0.0;
+    cv::Mat bgr, depth, left_out;
+  };
+  void Work();
+  void Stop();
+  DenseSummary Fuse(const core::Trajectory& keyframes, const std::filesystem::path& folder) const;
+  Prepared Prepare(const Pending& pending) const;
+
+  DenseOptions options_;
+  core::CameraIntrinsics camera_;
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::deque<Pending> queue_;
+  bool stopping_ = false;
+  std::map<double, Prepared> prepared_;  // by timestamp; written by the thread, read by Build after it joined
+  std::thread thread_;
+};
+
+}  // namespace hoidslam::dense

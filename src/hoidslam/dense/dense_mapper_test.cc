@@ -1,0 +1,121 @@
+#include "hoidslam/dense/dense_mapper.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include <open3d/geometry/PointCloud.h>
+#include <open3d/io/PointCloudIO.h>
+#include <opencv2/core.hpp>
+
+#include "hoidslam/core/error.h"
+#include "support/temp_dir.h"
+
+namespace hoidslam::dense {
+namespace {
+
+// An 80×60 camera in front of a wall 1.5 m away (its depth constant along the optical axis), a "person" 0.8 m away
+// in the middle of the image, marked as left out.
+struct WallScene {
+  core::CameraIntrinsics camera;
+  WallScene() {
+    camera.fx = camera.fy = 70.0;
+    camera.cx = 40.0;
+    camera.cy = 30.0;
+    camera.width = 80;
+    camera.height = 60;
+  }
+  core::RgbdFrame Frame(double timestamp) const {
+    core::RgbdFrame frame;
+    frame.timestamp = timestamp;
+    frame.rgb = cv::Mat(camera.height, camera.width, CV_8UC3, cv::Scalar(200, 150, 100));
+    frame.depth = cv::Mat(camera.height, camera.width, CV_32FC1, cv::Scalar(1.5F));
+    frame.depth(Person()).setTo(0.8F);
+    return frame;
+  }
+  cv::Rect Person() const { return {30, 10, 20, 50}; }
+  cv::Mat LeftOut() const {
+    cv::Mat mask(camera.height, camera.width, CV_8UC1, cv::Scalar(0));
+    mask(Person()).setTo(255);
+    return mask;
+  }
+};
+
+DenseOptions CoarseOptions() {
+  DenseOptions options;
+  options.voxel_size = 0.02;
+  options.truncation = 0.08;
+  return options;
+}
+
+open3d::geometry::PointCloud ReadCloud(const std::filesystem::path& path) {
+  open3d::geometry::PointCloud cloud;
+  EXPECT_TRUE(open3d::io::ReadPointCloud(path.string(), cloud));
+  return cloud;
+}
+
+TEST(DenseMapper, FusesTheFinalKeyFramesAtTheirFinalPosesWithoutWhatWasLeftOut) {
+  const WallScene scene;
+  DenseMapper mapper(CoarseOptions(), scene.camera);
+  for (const double t : {1.0, 2.0, 3.0}) mapper.AddKeyFrame(scene.Frame(t), scene.LeftOut());
+  // The map kept keyframes 1 and 3 (2 was culled), and moved both 10 cm to the left; one more comes from a loaded map.
+  core::Pose moved = core::Pose::Identity();
+  moved.translation() = Eigen::Vector3d(-0.1, 0.0, 0.0);
+  const testing::TempDir dir;
+  const DenseSummary summary = mapper.Build({{1.0, moved}, {3.0, moved}, {4.0, moved}}, dir.path());
+  EXPECT_TRUE(summary.written);
+  EXPECT_EQ(summary.keyframes, 2U);
+  EXPECT_EQ(summary.keyframes_without_images, 1U);
+  EXPECT_EQ(summary.fuse_ms.size(), 2U);
+  EXPECT_GT(summary.mesh.triangles, 0U);
+  EXPECT_GT(summary.occupied_cells, 0U);
+  for (const char* file : kDenseOutputs) EXPECT_TRUE(std::filesystem::is_regular_file(dir / file)) << file;
+
+  const open3d::geometry::PointCloud cloud = ReadCloud(dir / "cloud.ply");
+  ASSERT_FALSE(cloud.points_.empty());
+  for (const Eigen::Vector3d& p : cloud.points_) {
+    ASSERT_NEAR(p.z(), 1.5, 0.02) << "only the wall, never the person 0.8 m away";
+  }
+  // The wall behind the person is a hole (no other view saw it); around it the wall is there, shifted with the pose.
+  const double fx = scene.camera.fx;
+  const double person_left = (scene.Person().x - scene.camera.cx) * 1.5 / fx - 0.1;
+  const double person_right = (scene.Person().br().x - scene.camera.cx) * 1.5 / fx - 0.1;
+  std::size_t behind_person = 0, beside = 0;
+  for (const Eigen::Vector3d& p : cloud.points_) {
+    if (p.y() < -0.3) continue;  // the rows the person covers (10 to 59: from y = -0.43 m down)
+    if (p.x() > person_left + 0.08 && p.x() < person_right - 0.08) ++behind_person;
+    if (p.x() < person_left - 0.08) ++beside;
+  }
+  EXPECT_EQ(behind_person, 0U);
+  EXPECT_GT(beside, 10U);
+}
+
+TEST(DenseMapper, WritesNoEmptyFilesWhenThereIsNothingToFuse) {
+  const WallScene scene;
+  DenseMapper mapper(CoarseOptions(), scene.camera);
+  core::RgbdFrame blank = scene.Frame(1.0);
+  blank.depth.setTo(0.0F);
+  mapper.AddKeyFrame(blank, cv::Mat());
+  const testing::TempDir dir;
+  const DenseSummary summary = mapper.Build({{1.0, core::Pose::Identity()}}, dir.path());
+  EXPECT_EQ(summary.keyframes, 1U);
+  EXPECT_FALSE(summary.written);
+  EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
+}
+
+TEST(DenseMapper, TakesNoKeyFrameAfterTheBuild) {
+  const WallScene scene;
+  DenseMapper mapper(CoarseOptions(), scene.camera);
+  const testing::TempDir dir;
+  EXPECT_FALSE(mapper.Build({}, dir.path()).written);
+  EXPECT_THROW(mapper.AddKeyFrame(scene.Frame(1.0), cv::Mat()), std::logic_error);
+}
+
+TEST(DenseMapper, RefusesBadOptionsBeforeAnyKeyFrame) {
+  DenseOptions options;
+  options.voxel_size = 0.0;
+  EXPECT_THROW(DenseMapper mapper(options, WallScene().camera), core::InputError);
+}
+
+}  // namespace
+}  // namespace hoidslam::dense

@@ -1,0 +1,123 @@
+#include "hoidslam/dense/tsdf_volume.h"
+
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+#include <open3d/camera/PinholeCameraIntrinsic.h>
+#include <open3d/geometry/Image.h>
+#include <open3d/geometry/PointCloud.h>
+#include <open3d/geometry/RGBDImage.h>
+#include <open3d/geometry/TriangleMesh.h>
+#include <open3d/io/PointCloudIO.h>
+#include <open3d/io/TriangleMeshIO.h>
+#include <open3d/pipelines/integration/ScalableTSDFVolume.h>
+#include <opencv2/imgproc.hpp>
+
+#include "hoidslam/core/error.h"
+#include "hoidslam/io/atomic_file.h"
+
+namespace hoidslam::dense {
+
+namespace integration = open3d::pipelines::integration;
+
+namespace {
+
+constexpr int kBlockVoxels = 16;
+// Open3D's coloured voxel: signed distance and weight (floats), colour (three doubles).
+constexpr std::size_t kVoxelBytes = 32;
+
+// An Open3D image holding a copy of `mat` (continuous rows of `channels` × `bytes` per pixel).
+open3d::geometry::Image ImageOf(const cv::Mat& mat, int channels, int bytes) {
+  open3d::geometry::Image image;
+  image.Prepare(mat.cols, mat.rows, channels, bytes);
+  const std::size_t row = static_cast<std::size_t>(mat.cols) * channels * bytes;
+  for (int r = 0; r < mat.rows; ++r) std::memcpy(image.data_.data() + r * row, mat.ptr(r), row);
+  return image;
+}
+
+// Writes with Open3D's writer into a temporary sibling, then renames it into place.
+template <typename Write>
+void WriteAtomically(const std::filesystem::path& path, Write write) {
+  const std::filesystem::path temporary = io::TemporarySibling(path);
+  std::error_code error;
+  if (!write(temporary.string())) {
+    std::filesystem::remove(temporary, error);
+    throw core::InputError::InFile(path, "cannot write (does the folder exist and is it writable?)");
+  }
+  std::filesystem::rename(temporary, path, error);
+  if (error) {
+    std::filesystem::remove(temporary, error);
+    throw core::InputError::InFile(path, "cannot move the finished file into place: " + error.message());
+  }
+}
+
+}  // namespace
+
+struct TsdfVolume::Impl {
+  Impl(const DenseOptions& options, const core::CameraIntrinsics& camera)
+      : volume(options.voxel_size, options.truncation, integration::TSDFVolumeColorType::RGB8, kBlockVoxels),
+        intrinsic(camera.width, camera.height, camera.fx, camera.fy, camera.cx, camera.cy),
+        size(camera.width, camera.height) {}
+
+  std::shared_ptr<open3d::geometry::PointCloud> Cloud() const {
+    return const_cast<integration::ScalableTSDFVolume&>(volume).ExtractPointCloud();
+  }
+
+  integration::ScalableTSDFVolume volume;
+  open3d::camera::PinholeCameraIntrinsic intrinsic;
+  cv::Size size;
+};
+
+TsdfVolume::TsdfVolume(const DenseOptions& options, const core::CameraIntrinsics& camera)
+    : impl_(std::make_unique<Impl>(options, camera)) {}
+
+TsdfVolume::~TsdfVolume() = default;
+
+void TsdfVolume::Integrate(const cv::Mat& bgr, const cv::Mat& depth, const core::Pose& T_wc) {
+  if (bgr.type() != CV_8UC3 || depth.type() != CV_32FC1 || bgr.size() != impl_->size || depth.size() != impl_->size) {
+    throw std::invalid_argument("TsdfVolume::Integrate: colour must be CV_8UC3 and depth CV_32FC1, both the camera's size");
+  }
+  cv::Mat rgb;
+  cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+  // Built directly rather than by RGBDImage::CreateFromColorAndDepth, which would turn the colour into intensity
+  // (and the coloured volume then refuse it) and the depth into metres once more.
+  const open3d::geometry::RGBDImage view(ImageOf(rgb, 3, 1), ImageOf(depth, 1, 4));
+  impl_->volume.Integrate(view, impl_->intrinsic, T_wc.inverse().matrix());
+}
+
+std::size_t TsdfVolume::Blocks() const { return impl_->volume.volume_units_.size(); }
+
+std::size_t TsdfVolume::MemoryBytes() const {
+  return Blocks() * kBlockVoxels * kBlockVoxels * kBlockVoxels * kVoxelBytes;
+}
+
+MeshCounts TsdfVolume::WriteMesh(const std::filesystem::path& path) const {
+  const std::shared_ptr<open3d::geometry::TriangleMesh> mesh =
+      const_cast<integration::ScalableTSDFVolume&>(impl_->volume).ExtractTriangleMesh();
+  mesh->ComputeVertexNormals();
+  WriteAtomically(path, [&mesh](const std::string& file) {
+    return open3d::io::WriteTriangleMesh(file, *mesh, /*write_ascii=*/false, /*compressed=*/false);
+  });
+  return {mesh->vertices_.size(), mesh->triangles_.size(), mesh->GetSurfaceArea()};
+}
+
+std::size_t TsdfVolume::WriteCloud(const std::filesystem::path& path) const {
+  const std::shared_ptr<open3d::geometry::PointCloud> cloud = impl_->Cloud();
+  WriteAtomically(path, [&cloud](const std::string& file) {
+    return open3d::io::WritePointCloud(file, *cloud, {open3d::io::WritePointCloudOption::IsAscii::Binary});
+  });
+  return cloud->points_.size();
+}
+
+OrientedPoints TsdfVolume::SamplePoints(std::size_t step) const {
+  const std::shared_ptr<open3d::geometry::PointCloud> cloud = impl_->Cloud();
+  OrientedPoints sample;
+  for (std::size_t i = 0; i < cloud->points_.size(); i += std::max<std::size_t>(step, 1)) {
+    sample.points.push_back(cloud->points_[i]);
+    sample.normals.push_back(cloud->HasNormals() ? cloud->normals_[i] : Eigen::Vector3d::Zero());
+  }
+  return sample;
+}
+
+}  // namespace hoidslam::dense

@@ -1,0 +1,121 @@
+#include "hoidslam/dense/tsdf_volume.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include <open3d/geometry/PointCloud.h>
+#include <open3d/io/PointCloudIO.h>
+#include <opencv2/core.hpp>
+
+#include "support/input_error.h"
+#include "support/temp_dir.h"
+
+namespace hoidslam::dense {
+namespace {
+
+// The cloud a file holds, read by Open3D as a user would.
+open3d::geometry::PointCloud ReadCloud(const std::filesystem::path& path) {
+  open3d::geometry::PointCloud cloud;
+  EXPECT_TRUE(open3d::io::ReadPointCloud(path.string(), cloud));
+  return cloud;
+}
+
+// A small camera (80×60), so that the tests stay quick.
+core::CameraIntrinsics SmallCamera() {
+  core::CameraIntrinsics camera;
+  camera.fx = camera.fy = 70.0;
+  camera.cx = 40.0;
+  camera.cy = 30.0;
+  camera.width = 80;
+  camera.height = 60;
+  return camera;
+}
+
+// What a camera at T_wc sees of the plane z = `wall` (world): depth per pixel, 0 where the ray misses it.
+cv::Mat WallDepth(const core::CameraIntrinsics& camera, const core::Pose& T_wc, double wall) {
+  cv::Mat depth(camera.height, camera.width, CV_32FC1, cv::Scalar(0.0F));
+  for (int v = 0; v < camera.height; ++v) {
+    for (int u = 0; u < camera.width; ++u) {
+      const Eigen::Vector3d ray_c = camera.Unproject(u, v, 1.0);  // depth 1 along the optical axis
+      const Eigen::Vector3d ray_w = T_wc.linear() * ray_c;
+      const double t = (wall - T_wc.translation().z()) / ray_w.z();
+      if (t > 0.0) depth.at<float>(v, u) = static_cast<float>(t);
+    }
+  }
+  return depth;
+}
+
+core::Pose CameraAt(double x, double yaw_degrees) {
+  core::Pose T_wc = core::Pose::Identity();
+  T_wc.linear() = Eigen::AngleAxisd(yaw_degrees * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  T_wc.translation() = Eigen::Vector3d(x, 0.0, 0.0);
+  return T_wc;
+}
+
+TEST(TsdfVolume, AWallSeenFromTwoPlacesBecomesAFlatColouredMeshWhereTheWallIs) {
+  const core::CameraIntrinsics camera = SmallCamera();
+  DenseOptions options;
+  options.voxel_size = 0.02;
+  options.truncation = 0.08;
+  TsdfVolume volume(options, camera);
+  const cv::Mat red(camera.height, camera.width, CV_8UC3, cv::Scalar(0, 0, 255));  // BGR
+  for (const core::Pose& T_wc : {CameraAt(0.0, 0.0), CameraAt(0.3, -10.0)}) {
+    volume.Integrate(red, WallDepth(camera, T_wc, 1.5), T_wc);
+  }
+  EXPECT_GT(volume.Blocks(), 0U);
+  EXPECT_EQ(volume.MemoryBytes(), volume.Blocks() * 16 * 16 * 16 * 32);
+
+  const testing::TempDir dir;
+  const MeshCounts mesh = volume.WriteMesh(dir / "mesh.ply");
+  EXPECT_GT(mesh.triangles, 100U);
+  // The wall seen: about 1.7 m × 1.3 m at 1.5 m with a 60° field of view; a mesh that doubled it would be wrong.
+  EXPECT_GT(mesh.area, 1.5);
+  EXPECT_LT(mesh.area, 4.0);
+  const std::size_t points = volume.WriteCloud(dir / "cloud.ply");
+  EXPECT_GT(points, 100U);
+  const open3d::geometry::PointCloud cloud = ReadCloud(dir / "cloud.ply");
+  ASSERT_EQ(cloud.points_.size(), points);
+  ASSERT_TRUE(cloud.HasColors());
+  for (std::size_t i = 0; i < points; ++i) {
+    ASSERT_NEAR(cloud.points_[i].z(), 1.5, 0.01) << "every fused point lies on the wall";
+    ASSERT_NEAR(cloud.colors_[i].x(), 1.0, 0.01) << "in the wall's colour, red";
+    ASSERT_NEAR(cloud.colors_[i].z(), 0.0, 0.01);
+  }
+  const OrientedPoints sample = volume.SamplePoints(10);
+  ASSERT_FALSE(sample.points.empty());
+  EXPECT_LT(sample.normals.front().z(), -0.9) << "normals face the cameras";
+}
+
+TEST(TsdfVolume, DepthLeftOutIsNotFused) {
+  const core::CameraIntrinsics camera = SmallCamera();
+  DenseOptions options;
+  options.voxel_size = 0.02;
+  options.truncation = 0.08;
+  TsdfVolume volume(options, camera);
+  const cv::Mat grey(camera.height, camera.width, CV_8UC3, cv::Scalar(128, 128, 128));
+  cv::Mat depth = WallDepth(camera, core::Pose::Identity(), 1.5);
+  depth.colRange(40, 80).setTo(0.0F);  // the right half left out
+  volume.Integrate(grey, depth, core::Pose::Identity());
+  const testing::TempDir dir;
+  volume.WriteCloud(dir / "cloud.ply");
+  const open3d::geometry::PointCloud cloud = ReadCloud(dir / "cloud.ply");
+  ASSERT_FALSE(cloud.points_.empty());
+  for (const Eigen::Vector3d& p : cloud.points_) ASSERT_LT(p.x(), 0.1) << "nothing right of the image centre";
+}
+
+TEST(TsdfVolume, RefusesImagesOfAnotherSize) {
+  TsdfVolume volume(DenseOptions{}, SmallCamera());
+  EXPECT_THROW(volume.Integrate(cv::Mat(10, 10, CV_8UC3), cv::Mat(10, 10, CV_32FC1), core::Pose::Identity()),
+               std::invalid_argument);
+}
+
+TEST(TsdfVolume, AFileThatCannotBeWrittenIsNamed) {
+  TsdfVolume volume(DenseOptions{}, SmallCamera());
+  EXPECT_NE(testing::InputErrorOf([&] { volume.WriteMesh("/nonexistent-folder/mesh.ply"); })
+                .find("/nonexistent-folder/mesh.ply"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace hoidslam::dense
