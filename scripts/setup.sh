@@ -27,7 +27,7 @@ packages=(
   # the viewer's page (web/): npm installs three.js and esbuild at build time
   nodejs npm
   # the Python module (python/) and its tests and examples
-  python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib
+  python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib python3-pil
   # scripts/sanitize.sh and scripts/fuzz.sh: clang with the sanitizer and libFuzzer runtimes, llvm-symbolizer, lld
   clang-14 libclang-rt-14-dev llvm-14 lld-14
 )

@@ -276,3 +276,44 @@ def test_a_system_asked_to_show_itself_serves_the_viewer(walk):
     assert hoidslam.System().viewer_url == ""
     with pytest.raises(hoidslam.InputError, match="view"):
         hoidslam.System(view="yes")
+
+
+def test_a_dense_system_saves_a_mesh_open3d_opens_and_a_grid_map_server_reads(walk, tmp_path):
+    import open3d  # Debian's python3-open3d, as a user opens the files
+
+    sequence = hoidslam.Sequence(walk)
+    detections = hoidslam.DetectionsFile(walk / "detections.jsonl")
+    slam = hoidslam.System(filter="hoidplus", dense=0.02)
+    for frame in sequence:
+        slam.track(frame.rgb, frame.depth, frame.timestamp, detections.find(frame.timestamp))
+    slam.save(tmp_path / "out")
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())["dense"]
+    assert summary["written"] and summary["options"]["voxel_size"] == 0.02
+    assert summary["keyframes"] == len(slam.keyframes())
+
+    mesh = open3d.io.read_triangle_mesh(str(tmp_path / "out" / "mesh.ply"))
+    assert len(mesh.triangles) == summary["mesh"]["triangles"] > 1000
+    assert mesh.has_vertex_colors() and mesh.has_vertex_normals()
+    cloud = open3d.io.read_point_cloud(str(tmp_path / "out" / "cloud.ply"))
+    assert len(cloud.points) == summary["cloud_points"] > 1000
+    # The cloud lies on the mesh (but at its open edges, where marching cubes stops short of the last voxel).
+    scene = open3d.t.geometry.RaycastingScene()
+    scene.add_triangles(open3d.t.geometry.TriangleMesh.from_legacy(mesh))
+    distances = scene.compute_distance(np.asarray(cloud.points, dtype=np.float32)).numpy()
+    assert np.median(distances) < 0.002 and np.percentile(distances, 95) < 0.02
+
+    # The grid as map_server reads it: the YAML's image, resolution and origin; the PGM's trinary values.
+    yaml = dict(line.split(": ", 1) for line in (tmp_path / "out" / "occupancy.yaml").read_text().splitlines()
+                if ": " in line and not line.startswith("#"))
+    assert yaml["image"] == "occupancy.pgm" and float(yaml["resolution"]) == 0.05 and yaml["mode"] == "trinary"
+    origin = [float(v) for v in yaml["origin"].strip("[]").split(",")]
+    assert len(origin) == 3 and origin[2] == 0.0
+    from PIL import Image  # what map_server's image loader does in Python tools: Pillow reads PGM
+
+    grid = np.asarray(Image.open(tmp_path / "out" / "occupancy.pgm"))
+    assert grid.ndim == 2 and set(np.unique(grid)) <= {0, 205, 254} and (grid == 0).any() and (grid == 254).any()
+
+    with pytest.raises(hoidslam.InputError, match="dense"):
+        hoidslam.System(dense="yes")
+    with pytest.raises(hoidslam.InputError, match="--dense-voxel"):
+        hoidslam.System(dense=-0.01)

@@ -111,7 +111,16 @@ void OccupancyMap::WriteBinary(const std::filesystem::path& path) const {
   // writeBinary turns the log-odds into maximum likelihood and prunes what then agrees, the smaller file: on a copy,
   // so that this map keeps its log-odds for more keyframes.
   octomap::OcTree copy(impl_->tree);
-  if (!copy.writeBinary(file.stream())) throw core::InputError::InFile(path, "cannot write the occupancy tree");
+  copy.toMaxLikelihood();
+  copy.prune();
+  // OctoMap's own writeBinary would do the same, but Debian's build prints "Writing N nodes to output stream..."
+  // on stderr while it does: its header, then its nodes, written here.
+  std::ostream& out = file.stream();
+  out << "# Octomap OcTree binary file"  // the first line readBinary checks (AbstractOccupancyOcTree::binaryFileHeader)
+      << "\n# (feel free to add / change comments, but leave the first line as it is!)\n#\n"
+      << "id " << copy.getTreeType() << "\nsize " << copy.size() << "\nres " << copy.getResolution() << "\ndata\n";
+  if (copy.getRoot() != nullptr) copy.writeBinaryNode(out, copy.getRoot());
+  if (!out) throw core::InputError::InFile(path, "cannot write the occupancy tree");
   file.Commit();
 }
 
