@@ -13,10 +13,6 @@
 #include "hoidslam/dense/fusible_depth.h"
 #include "hoidslam/dense/occupancy.h"
 
-// The OpenMP runtime Debian's Open3D is built with, libgomp (declared here rather than by an omp.h: the clang
-// builds of the sanitizers have none of GCC's).
-extern "C" void omp_set_num_threads(int threads);
-
 namespace hoidslam::dense {
 
 namespace {
@@ -85,14 +81,11 @@ DenseMapper::Prepared DenseMapper::Prepare(const Pending& pending) const {
 
 DenseSummary DenseMapper::Build(const core::Trajectory& keyframes, const std::filesystem::path& folder) {
   Stop();  // every keyframe handed over is prepared once the thread has ended
-  // Open3D parallelises a view's integration over the volume's blocks with OpenMP, many short loops: with two
-  // threads on a 2-core machine that something else keeps busy, their barriers spin against each other and a
-  // keyframe took 2 s instead of 19 ms. So one OpenMP thread — in a thread of the mapper's own, so that the
-  // caller's OpenMP setting stays as it was.
+  // In a thread of the mapper's own, so that the caller's OpenMP setting stays as it was (UseOneOpenMPThread).
   DenseSummary summary;
   std::exception_ptr failure;
   std::thread builder([&] {
-    omp_set_num_threads(1);
+    UseOneOpenMPThread();
     try {
       summary = Fuse(keyframes, folder);
     } catch (...) {

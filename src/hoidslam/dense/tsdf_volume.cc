@@ -1,6 +1,8 @@
 #include "hoidslam/dense/tsdf_volume.h"
 
+#include <cstdlib>
 #include <cstring>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 
@@ -16,6 +18,10 @@
 
 #include "hoidslam/core/error.h"
 #include "hoidslam/io/atomic_file.h"
+
+// The OpenMP runtime Debian's Open3D is built with, libgomp (declared here rather than by an omp.h: the clang
+// builds of the sanitizers have none of GCC's).
+extern "C" void omp_set_num_threads(int threads);
 
 namespace hoidslam::dense {
 
@@ -53,6 +59,15 @@ void WriteAtomically(const std::filesystem::path& path, Write write) {
 }
 
 }  // namespace
+
+void UseOneOpenMPThread() {
+  // Open3D 0.16 sizes its loops by the machine's cores unless OMP_NUM_THREADS or OMP_DYNAMIC is in the environment,
+  // and then by the calling thread's OpenMP setting (utility::EstimateMaxThreads). OMP_DYNAMIC changes nothing for
+  // libgomp, which read its variables when it loaded; set once, and a user's own setting is kept.
+  static std::once_flag environment;
+  std::call_once(environment, [] { setenv("OMP_DYNAMIC", "false", /*overwrite=*/0); });
+  omp_set_num_threads(1);
+}
 
 struct TsdfVolume::Impl {
   Impl(const DenseOptions& options, const core::CameraIntrinsics& camera)

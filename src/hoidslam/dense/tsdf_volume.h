@@ -33,6 +33,11 @@ struct OrientedPoints {
   std::vector<Eigen::Vector3d> normals;
 };
 
+// Makes Open3D's OpenMP loops run on one thread when called from this thread. Open3D parallelises a view's
+// integration over the volume's blocks in many short loops: two threads on a 2-core machine that something else
+// keeps busy spin at their barriers against each other, and a keyframe took 0.3–2 s instead of 25 ms.
+void UseOneOpenMPThread();
+
 class TsdfVolume {
  public:
   TsdfVolume(const DenseOptions& options, const core::CameraIntrinsics& camera);
