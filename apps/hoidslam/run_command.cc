@@ -22,10 +22,13 @@
 #include "hoidslam/core/interrupt.h"
 #include "hoidslam/core/shipped_dir.h"
 #include "hoidslam/dense/dense_mapper.h"
+#include "hoidslam/dense/occupancy.h"
+#include "hoidslam/eval/dense_score.h"
 #include "hoidslam/eval/evaluation.h"
 #include "hoidslam/eval/loop_recall.h"
 #include "hoidslam/eval/pose_check.h"
 #include "hoidslam/io/atomic_file.h"
+#include "hoidslam/io/ply_file.h"
 #include "hoidslam/io/settings.h"
 #include "hoidslam/io/trajectory_file.h"
 #include "hoidslam/pipeline/depth_units.h"
@@ -101,6 +104,18 @@ void SetCamera(const std::vector<double>& values, const cv::Size& image, io::Set
   } catch (const core::InputError& e) {
     throw core::InputError::ForParameter("--camera", e.what());
   }
+}
+
+// The dense map against a synthetic sequence's exact geometry (eval/dense_score.h), in the ground truth's frame by
+// the trajectory's alignment: the scores, or nullopt when the sequence carries no geometry.
+std::optional<eval::DenseScore> ScoreDenseMap(const io::RgbdSequence& sequence, const fs::path& run,
+                                              const eval::Evaluation& evaluation, const core::CameraIntrinsics& camera,
+                                              const eval::DenseScoreOptions& options) {
+  if (!eval::DenseTruth::Exists(sequence.root())) return std::nullopt;
+  const eval::DenseTruth truth = eval::DenseTruth::Load(sequence.root(), camera);
+  const dense::OccupiedCells cells = dense::ReadOccupiedCells(run / "occupancy.bt");
+  return eval::ScoreDenseMap(io::ReadPlyMesh(run / "mesh.ply"), &cells.centres, cells.resolution,
+                             evaluation.ate.alignment, truth, options);
 }
 
 void RunRun(const RunArgs& args) {
@@ -215,6 +230,8 @@ void RunRun(const RunArgs& args) {
   std::optional<eval::PoseCheck> relocalizations, loops, merges;
   std::optional<eval::LoopRecall> loop_recall;
   std::vector<std::pair<slam::MapId, eval::Evaluation>> other_maps;
+  eval::DenseScoreOptions dense_score_options;
+  std::optional<eval::DenseScore> dense_score;
   const eval::PoseCheckOptions relocalization_limits;
   const eval::LoopRecallOptions loop_recall_options{.closure = relocalization_limits};
   const fs::path groundtruth = sequence.root() / "groundtruth.txt";
@@ -253,6 +270,12 @@ void RunRun(const RunArgs& args) {
                                             io::ReadTumTrajectory(out.temporary() / "keyframes.txt"), closures,
                                             evaluation->options.ate.association, loop_recall_options);
       json["evaluation"]["loop_recall"] = eval::LoopRecallToJson(*loop_recall, loop_recall_options);
+      if (dense_summary && dense_summary->written) {
+        dense_score_options.min_depth = dense_mapper->options().min_depth;
+        dense_score_options.max_depth = dense_mapper->options().max_depth;
+        dense_score = ScoreDenseMap(sequence, out.temporary(), *evaluation, options.system.camera, dense_score_options);
+        if (dense_score) json["evaluation"]["dense"] = eval::DenseScoreJson(*dense_score, dense_score_options);
+      }
       // Each other map on its own: its frames aligned to the ground truth by themselves.
       json["evaluation"]["other_maps"] = nlohmann::json::array();
       for (const slam::MapSummary& map : summary.maps) {
@@ -335,6 +358,15 @@ void RunRun(const RunArgs& args) {
              ms["filter"].get<double>(), ms["track"].get<double>(), ms["tracking_total"].get<double>());
   if (dense_summary) fmt::print("{}\n", dense::FormatDenseSummary(*dense_summary, dense_mapper->options()));
   if (evaluation) fmt::print("{}", eval::FormatEvaluation(*evaluation));
+  if (dense_score) {
+    fmt::print("dense map against the true static geometry: accuracy median {:.1f} mm (90 % within {:.1f} mm), "
+               "completeness {:.1f} % (within {:g} cm), ghosts {:.3f} m² ({:.2f} % of the surface farther than {:g} cm "
+               "from it), occupancy {} ghost cells of {} occupied\n",
+               1000.0 * dense_score->accuracy_median, 1000.0 * dense_score->accuracy_p90,
+               100.0 * dense_score->completeness, 100.0 * dense_score_options.completeness_distance,
+               dense_score->ghost_area, 100.0 * dense_score->GhostShare(), 100.0 * dense_score_options.ghost_distance,
+               dense_score->ghost_cells.value_or(0), dense_score->occupied_cells.value_or(0));
+  }
   if (relocalizations && !relocalizations->poses.empty()) {
     fmt::print("relocalisations: {}, {} of them false (more than {:g} m or {:g}° from the ground truth)\n",
                relocalizations->poses.size(), relocalizations->Wrong(), relocalization_limits.max_position_error,

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -92,6 +93,19 @@ std::vector<Eigen::Vector3d> OccupancyMap::OccupiedCentres() const {
     if (occupied) centres.push_back(centre);
   });
   return centres;
+}
+
+OccupiedCells ReadOccupiedCells(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  octomap::OcTree tree(0.1);
+  if (!in || !tree.readBinary(in)) {
+    throw core::InputError::InFile(path, "cannot read it as an OctoMap binary tree (.bt)");
+  }
+  OccupiedCells cells{tree.getResolution(), {}};
+  ForEachFinestLeaf(tree, [&](const Eigen::Vector3d& centre, bool occupied) {
+    if (occupied) cells.centres.push_back(centre);
+  });
+  return cells;
 }
 
 std::size_t OccupancyMap::OccupiedLeaves() const {

@@ -60,6 +60,14 @@ class OccupancyMap {
   std::unique_ptr<Impl> impl_;
 };
 
+// The occupied cells of an occupancy.bt: their size and centres (the finest leaves). Throws InputError naming the
+// file when it is not an OctoMap binary tree.
+struct OccupiedCells {
+  double resolution = 0.0;
+  std::vector<Eigen::Vector3d> centres;
+};
+OccupiedCells ReadOccupiedCells(const std::filesystem::path& path);
+
 // Writes `grid` as <stem>.pgm (occupied 0, free 254, unknown 205; the top image row is the highest y) and
 // <stem>.yaml (image, resolution, origin [x, y, yaw], negate, occupied_thresh, free_thresh, mode trinary), both
 // atomically; the YAML also records grid.T_fw so that a user can place the grid in the SLAM world frame. Throws

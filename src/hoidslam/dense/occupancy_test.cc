@@ -20,6 +20,7 @@
 #include "support/geometry.h"
 #include "support/input_error.h"
 #include "support/temp_dir.h"
+#include "support/text_file.h"
 
 namespace hoidslam::dense {
 namespace {
@@ -119,6 +120,21 @@ TEST(OccupancyMap, TheBinaryTreeReadsBackWithOctoMapCellForCell) {
     ASSERT_TRUE(node != nullptr && tree.isNodeOccupied(node)) << centre.transpose();
   }
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir.path()), {}), 1);  // no temporary left
+
+  const OccupiedCells cells = ReadOccupiedCells(dir / "occupancy.bt");
+  EXPECT_DOUBLE_EQ(cells.resolution, kResolution);
+  EXPECT_EQ(cells.centres.size(), map.OccupiedLeaves());
+}
+
+TEST(ReadOccupiedCells, NamesAFileThatIsNoOctoMap) {
+  testing::TempDir dir;
+  testing::WriteText(dir / "occupancy.bt", "not a tree\n");
+  try {
+    ReadOccupiedCells(dir / "occupancy.bt");
+    FAIL() << "no error";
+  } catch (const core::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("occupancy.bt"), std::string::npos) << e.what();
+  }
 }
 
 // The test room mapped from its views, its floor frame placed in the SLAM world by T_wf.

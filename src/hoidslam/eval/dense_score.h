@@ -1,0 +1,67 @@
+#pragma once
+// How clean and complete a dense map of the static world is, measured against a synthetic sequence's exact
+// geometry (docs/dense.md): the office's static surface (static_geometry.ply) and the space people and moved objects
+// ever occupied (moving_volume.ply), both in the ground truth's world frame. The reconstruction is brought into that
+// frame by the trajectory's ATE alignment.
+
+#include <cstddef>
+#include <filesystem>
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include "hoidslam/core/camera.h"
+#include "hoidslam/core/pose.h"
+#include "hoidslam/eval/alignment.h"
+#include "hoidslam/io/ply_file.h"
+
+namespace hoidslam::eval {
+
+struct DenseScoreOptions {
+  double completeness_distance = 0.02;  // m: a true surface point this near the reconstruction counts as mapped
+  double ghost_distance = 0.05;         // m: reconstructed surface farther than this from every static one is a ghost
+  double surface_spacing = 0.02;        // m between the samples of the true surface completeness is counted on
+  std::size_t view_step = 10;           // every n-th ground-truth pose is a view of where the camera looked
+  double min_depth = 0.3, max_depth = 3.0;  // m: what a view sees (the dense map's own range)
+};
+
+// The truth a synthetic sequence carries.
+struct DenseTruth {
+  io::TriangleMesh static_geometry;
+  io::VoxelCentres moving_volume;
+  core::Trajectory camera_path;  // groundtruth.txt
+  core::CameraIntrinsics camera;
+
+  // Reads <sequence>/static_geometry.ply, moving_volume.ply and groundtruth.txt; InputError naming a missing or
+  // bad file.
+  static DenseTruth Load(const std::filesystem::path& sequence, const core::CameraIntrinsics& camera);
+  static bool Exists(const std::filesystem::path& sequence);  // the sequence has the geometry files
+};
+
+struct DenseScore {
+  // Accuracy: each reconstructed vertex's distance to the true static surface, m.
+  double accuracy_mean = 0.0, accuracy_median = 0.0, accuracy_p90 = 0.0;
+  // Completeness: the share of the true static surface the views saw (in range, not hidden by other static surface)
+  // that lies within completeness_distance of the reconstruction.
+  double completeness = 0.0;
+  std::size_t seen_samples = 0;
+  // Ghosts: reconstructed surface farther than ghost_distance from every static surface.
+  double area = 0.0;        // m², the reconstruction's
+  double ghost_area = 0.0;  // m²
+  double GhostShare() const { return area > 0.0 ? ghost_area / area : 0.0; }
+  // The occupancy map's occupied cells, and of them those whose centre lies in space only people and moved objects
+  // ever took (a cell of the moving volume, farther than a cell from the static surface).
+  std::optional<std::size_t> occupied_cells, ghost_cells;
+};
+
+// Scores `reconstruction` (the estimate's world frame) and, when given, the occupied cell centres of its occupancy
+// map (same frame, cells of `occupancy_resolution`), after `alignment` (estimate → ground truth).
+DenseScore ScoreDenseMap(const io::TriangleMesh& reconstruction, const std::vector<Eigen::Vector3d>* occupied,
+                         double occupancy_resolution, const Alignment& alignment, const DenseTruth& truth,
+                         const DenseScoreOptions& options = {});
+
+nlohmann::json DenseScoreJson(const DenseScore& score, const DenseScoreOptions& options);
+
+}  // namespace hoidslam::eval
