@@ -5,7 +5,9 @@
 #include <optional>
 #include <stdexcept>
 
+#include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <spdlog/spdlog.h>
 
 #include "hoidslam/core/stopwatch.h"
@@ -28,6 +30,14 @@ constexpr std::size_t kFloorSampleStep = 4;
 DenseMapper::DenseMapper(const DenseOptions& options, const core::CameraIntrinsics& camera)
     : options_(options), camera_(camera) {
   options_.Check();
+  if (camera.HasDistortion()) {
+    // The volume and the rays take a pinhole camera: a keyframe is undistorted onto the same intrinsics first.
+    const cv::Matx33d K(camera.fx, 0.0, camera.cx, 0.0, camera.fy, camera.cy, 0.0, 0.0, 1.0);
+    const cv::Vec<double, 5> distortion(camera.k1, camera.k2, camera.p1, camera.p2, camera.k3);
+    cv::initUndistortRectifyMap(K, distortion, cv::noArray(), K, cv::Size(camera.width, camera.height), CV_32FC1,
+                                undistort_x_, undistort_y_);
+    camera_.k1 = camera_.k2 = camera_.p1 = camera_.p2 = camera_.k3 = 0.0;
+  }
   thread_ = std::thread([this] { Work(); });
 }
 
@@ -74,8 +84,15 @@ void DenseMapper::Work() {
 
 DenseMapper::Prepared DenseMapper::Prepare(const Pending& pending) const {
   Prepared prepared;
-  FusibleDepth(pending.depth, pending.left_out, options_).convertTo(prepared.depth, CV_16U, kDepthUnitsPerMetre);
-  cv::imencode(".jpg", pending.bgr, prepared.jpeg, {cv::IMWRITE_JPEG_QUALITY, kJpegQuality});
+  cv::Mat depth = FusibleDepth(pending.depth, pending.left_out, options_);
+  cv::Mat bgr = pending.bgr;
+  if (!undistort_x_.empty()) {
+    // Depth by its nearest pixel: interpolating across an edge would invent surfaces between foreground and back.
+    cv::remap(depth, depth, undistort_x_, undistort_y_, cv::INTER_NEAREST, cv::BORDER_CONSTANT, 0.0);
+    cv::remap(bgr, bgr, undistort_x_, undistort_y_, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+  }
+  depth.convertTo(prepared.depth, CV_16U, kDepthUnitsPerMetre);
+  cv::imencode(".jpg", bgr, prepared.jpeg, {cv::IMWRITE_JPEG_QUALITY, kJpegQuality});
   return prepared;
 }
 

@@ -64,7 +64,8 @@ class DenseMapper {
   Prepared Prepare(const Pending& pending) const;
 
   DenseOptions options_;
-  core::CameraIntrinsics camera_;
+  core::CameraIntrinsics camera_;  // without distortion: the images are undistorted as they are prepared
+  cv::Mat undistort_x_, undistort_y_;  // the maps that undistort them; empty for a camera without distortion
   std::mutex mutex_;
   std::condition_variable wake_;
   std::deque<Pending> queue_;

@@ -6,6 +6,7 @@
 
 #include <open3d/geometry/PointCloud.h>
 #include <open3d/io/PointCloudIO.h>
+#include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 
 #include "hoidslam/core/error.h"
@@ -88,6 +89,38 @@ TEST(DenseMapper, FusesTheFinalKeyFramesAtTheirFinalPosesWithoutWhatWasLeftOut) 
   }
   EXPECT_EQ(behind_person, 0U);
   EXPECT_GT(beside, 10U);
+}
+
+TEST(DenseMapper, UndistortsTheKeyFramesOfACameraWithDistortion) {
+  // A wall 1.5 m away seen through a lens with strong barrel distortion, a gap in it at world x in [0.5, 0.7] m: each
+  // distorted pixel shows the wall point its undistorted ray meets.
+  WallScene scene;
+  scene.camera.k1 = -0.5;
+  const cv::Matx33d K(scene.camera.fx, 0, scene.camera.cx, 0, scene.camera.fy, scene.camera.cy, 0, 0, 1);
+  std::vector<cv::Point2f> distorted, normalized;
+  for (int v = 0; v < scene.camera.height; ++v) {
+    for (int u = 0; u < scene.camera.width; ++u) distorted.emplace_back(u, v);
+  }
+  cv::undistortPoints(distorted, normalized, K, cv::Vec<double, 5>(scene.camera.k1, 0, 0, 0, 0));
+  core::RgbdFrame frame = scene.Frame(1.0);
+  frame.depth.setTo(1.5F);
+  for (std::size_t i = 0; i < distorted.size(); ++i) {
+    const double x = 1.5 * normalized[i].x;
+    if (x > 0.5 && x < 0.7) frame.depth.at<float>(static_cast<int>(distorted[i].y), static_cast<int>(distorted[i].x)) = 0.0F;
+  }
+  DenseOptions options = CoarseOptions();
+  options.mask_margin = 0;
+  DenseMapper mapper(options, scene.camera);
+  mapper.AddKeyFrame(frame, cv::Mat());
+  const testing::TempDir dir;
+  ASSERT_TRUE(mapper.Build({{1.0, core::Pose::Identity()}}, dir.path()).written);
+  std::size_t in_gap = 0, beside = 0;
+  for (const Eigen::Vector3d& p : ReadCloud(dir / "cloud.ply").points_) {
+    if (p.x() > 0.53 && p.x() < 0.67) ++in_gap;
+    if (p.x() > 0.25 && p.x() < 0.45) ++beside;
+  }
+  EXPECT_EQ(in_gap, 0U) << "the gap where the world has it";
+  EXPECT_GT(beside, 20U);
 }
 
 TEST(DenseMapper, WritesNoEmptyFilesWhenThereIsNothingToFuse) {
