@@ -1,9 +1,11 @@
 #pragma once
-// Point clouds as PLY (binary little-endian, float x y z, uchar red green blue), the format Open3D,
-// CloudCompare and MeshLab open directly.
+// PLY files, the format Open3D, CloudCompare and MeshLab open directly: coloured point clouds (a run's map.ply),
+// triangle meshes and voxel centres (the static geometry and the moving volume of a synthetic sequence). Every
+// file is written binary little-endian with float coordinates, atomically (complete or absent).
 
 #include <filesystem>
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
@@ -16,11 +18,42 @@ struct ColoredPoint {
   cv::Vec3b bgr;             // colour in OpenCV's BGR order; written as RGB
 };
 
-// Writes atomically (complete or absent).
+// Writes float x y z, uchar red green blue per point.
 void WritePly(const std::filesystem::path& path, std::span<const ColoredPoint> points);
 
 // Reads a file as WritePly writes it (the run's map.ply), points in file order. Throws InputError naming the file
 // when it cannot be read, has another layout, or holds fewer or more bytes than its header says.
 std::vector<ColoredPoint> ReadPly(const std::filesystem::path& path);
+
+struct TriangleMesh {
+  std::vector<Eigen::Vector3f> vertices;   // metres
+  std::vector<Eigen::Vector3i> triangles;  // indices into `vertices`, counter-clockwise seen from outside
+};
+
+// Writes float x y z per vertex and a face list (uchar count, int indices) with the header line
+// "comment <comment>" (one line of text).
+void WritePlyMesh(const std::filesystem::path& path, const TriangleMesh& mesh, std::string_view comment);
+
+// Reads a triangle mesh: what WritePlyMesh writes, and meshes as Open3D writes them (ascii or binary_little_endian;
+// x y z float or double; other vertex properties such as normals and colours skipped; a face list of any integer
+// types; other elements skipped). Throws InputError naming the file when it cannot be read, is not such a PLY
+// file, holds a face that is not a triangle or an index out of range, or holds fewer or more values than its
+// header says.
+TriangleMesh ReadPlyMesh(const std::filesystem::path& path);
+
+// The centres of the cells of a regular grid, such as the cells something occupied.
+struct VoxelCentres {
+  double voxel_size = 0.0;  // edge of a cell, metres
+  std::vector<Eigen::Vector3f> centres;
+};
+
+// Writes float x y z per centre with the header line "comment voxel_size <size>" (the shortest decimal that
+// reads back as the same double).
+void WriteVoxelCentresPly(const std::filesystem::path& path, const VoxelCentres& voxels);
+
+// Reads what WriteVoxelCentresPly writes (and points read as ReadPlyMesh reads vertices), centres in file order.
+// Throws InputError naming the file as ReadPlyMesh does, and when the header has no single voxel_size comment
+// of a finite size > 0 or the file holds faces.
+VoxelCentres ReadVoxelCentresPly(const std::filesystem::path& path);
 
 }  // namespace hoidslam::io
