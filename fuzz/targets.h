@@ -23,7 +23,7 @@ void FuzzDetections(Bytes input);    // a detections file: io::DetectionsFile::R
 void FuzzScenario(Bytes input);      // a scenario JSON file: synth::ParseScenario
 void FuzzVocabulary(Bytes input);    // a vocabulary file: bow::Vocabulary::Load
 void FuzzMapFile(Bytes input);       // a map file: slam::DecodeMap, then slam::RebuildMap
-void FuzzPly(Bytes input);           // a point cloud as a run writes it (map.ply): io::ReadPly
+void FuzzPly(Bytes input);           // a PLY file: io::ReadPly, io::ReadPlyMesh, io::ReadVoxelCentresPly
 
 std::span<const Target> Targets();
 
