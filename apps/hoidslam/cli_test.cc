@@ -251,7 +251,8 @@ TEST(Cli, SynthRandomRendersASeedAndItsScenarioFileRendersItAgain) {
   fs::create_directories(scratch / "b");
   const RunResult second = RunHoidslam(scratch, again);
   ASSERT_EQ(second.exit_status, 0) << second.err;
-  for (const char* file : {"groundtruth.txt", "rgb.txt", "detections.jsonl", "events.jsonl", "scenario.json"}) {
+  for (const char* file : {"groundtruth.txt", "rgb.txt", "detections.jsonl", "events.jsonl", "scenario.json",
+                           "static_geometry.ply", "moving_volume.ply"}) {
     EXPECT_EQ(ReadText(scratch / "a" / "seq" / file), ReadText(scratch / "b" / "seq" / file)) << file;
   }
   // --print-scenario shows the document that was rendered.

@@ -526,7 +526,9 @@ VoxelCentres ReadVoxelCentresPly(const fs::path& path) {
     size = value;
   }
   if (!size) throw core::InputError::InFile(path, "no 'comment voxel_size <metres>' line in the PLY header");
-  if (FindElement(header, "face") != nullptr) throw core::InputError::InFile(path, "a face element: voxel centres are vertices only");
+  if (FindElement(header, "face") != nullptr) {
+    throw core::InputError::InFile(path, "a face element: voxel centres are vertices only");
+  }
   return {*size, ReadGeometry(path, text, header).vertices};
 }
 

@@ -246,7 +246,8 @@ TEST(VoxelCentresPly, NamesTheFileWithoutOneGoodVoxelSize) {
   }
   EXPECT_THAT(error("twice.ply", "comment voxel_size 0.02\ncomment voxel_size 0.02\n"),
               HasSubstr("twice.ply: 'comment voxel_size 0.02': the header must say the voxel size once"));
-  EXPECT_THAT(error("faces.ply", "comment voxel_size 0.02\n", "element face 0\nproperty list uchar int vertex_indices\n"),
+  EXPECT_THAT(error("faces.ply", "comment voxel_size 0.02\n",
+                    "element face 0\nproperty list uchar int vertex_indices\n"),
               HasSubstr("faces.ply: a face element: voxel centres are vertices only"));
 }
 

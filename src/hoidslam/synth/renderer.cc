@@ -70,7 +70,7 @@ struct FixedPoint {
   std::int64_t x = 0, y = 0;
 };
 
-// Box faces: outward normal axis and sign, and the corner order (bit i of a corner index = sign of axis i).
+// Box faces: outward normal axis and sign, and the corner order (corners numbered as scene.h BoxCorner does).
 struct FaceTopology {
   int axis;
   int sign;
@@ -203,12 +203,7 @@ class Rasteriser {
   void DrawBox(const SceneInstance& instance, const Box& box) {
     const core::Pose T_cb = T_cw_ * box.T_wb;
     std::array<Eigen::Vector3d, 8> corners;
-    for (int i = 0; i < 8; ++i) {
-      const Eigen::Vector3d local((i & 1) ? box.half_size.x() : -box.half_size.x(),
-                                  (i & 2) ? box.half_size.y() : -box.half_size.y(),
-                                  (i & 4) ? box.half_size.z() : -box.half_size.z());
-      corners[static_cast<std::size_t>(i)] = T_cb * local;
-    }
+    for (int i = 0; i < 8; ++i) corners[static_cast<std::size_t>(i)] = T_cb * BoxCorner(box.half_size, i);
     for (const HalfSpace& plane : view_) {
       if (std::all_of(corners.begin(), corners.end(), [&](const Eigen::Vector3d& c) { return plane.At(c) < 0.0; })) {
         return;  // wholly outside the view

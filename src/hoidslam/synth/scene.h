@@ -27,6 +27,12 @@ struct Box {
   cv::Vec3f tint = {1.0F, 1.0F, 1.0F};             // per-channel (B, G, R) multiplier on the texture
 };
 
+// Corner `i` (0..7) of a box of `half_size` in the box's own frame: bit a of `i` set puts it on the + side of axis a.
+inline Eigen::Vector3d BoxCorner(const Eigen::Vector3d& half_size, int i) {
+  return {(i & 1) ? half_size.x() : -half_size.x(), (i & 2) ? half_size.y() : -half_size.y(),
+          (i & 4) ? half_size.z() : -half_size.z()};
+}
+
 // A thing the benchmark knows by name: the room, a desk, a person, a cup.
 struct SceneInstance {
   int id = kNoInstance;       // > 0, unique in the scene and stable over the whole sequence

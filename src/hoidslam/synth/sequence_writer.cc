@@ -19,11 +19,13 @@
 #include "hoidslam/core/stopwatch.h"
 #include "hoidslam/io/atomic_file.h"
 #include "hoidslam/io/detections_file.h"
+#include "hoidslam/io/ply_file.h"
 #include "hoidslam/io/trajectory_file.h"
 #include "hoidslam/synth/office.h"
 #include "hoidslam/synth/random.h"
 #include "hoidslam/synth/renderer.h"
 #include "hoidslam/synth/sensor_noise.h"
+#include "hoidslam/synth/static_geometry.h"
 #include "hoidslam/synth/world.h"
 
 namespace hoidslam::synth {
@@ -288,6 +290,7 @@ SynthResult WriteSequence(const Scenario& scenario, const SynthOptions& options)
   core::Trajectory trajectory;
   for (const CameraFrame& frame : frames) trajectory.push_back({frame.timestamp, frame.T_wc});
   const double time_origin = frames.front().timestamp;
+  SequenceGeometry geometry(world.Snapshot(0.0));
   std::vector<FrameResult> results(frames.size());
   std::atomic<std::size_t> next{0};
   std::atomic<bool> failed{false};
@@ -304,6 +307,7 @@ SynthResult WriteSequence(const Scenario& scenario, const SynthOptions& options)
         const CameraFrame& frame = frames[i];
         SceneSnapshot snapshot = world.Snapshot(frame.timestamp - time_origin);
         snapshot.timestamp = frame.timestamp;
+        geometry.Add(snapshot);
         const double time = frame.timestamp - time_origin;
         const bool covered = scenario.LensCoveredAt(time);
         const RenderOutput rendered = covered ? CoveredLensImage(camera) : renderer.Render(snapshot, frame.T_wc);
@@ -360,6 +364,8 @@ SynthResult WriteSequence(const Scenario& scenario, const SynthOptions& options)
   }
   WriteText(folder / "events.jsonl", EventLog(world, scenario, frames));
   WriteText(folder / "scenario.json", RenderedScenario(scenario).dump(2) + "\n");
+  io::WritePlyMesh(folder / "static_geometry.ply", geometry.StaticMesh(), "hoidslam static geometry of " + sequence);
+  io::WriteVoxelCentresPly(folder / "moving_volume.ply", geometry.MovingVolume());
 
   output.Commit();
   return {frames.size(), stopwatch.ElapsedSeconds()};

@@ -12,6 +12,9 @@
 //   <out>/detections_truth.jsonl  the clean boxes, written only when detector noise is configured
 //   <out>/events.jsonl         who picked up / put down / pushed / sat on what, and when
 //   <out>/scenario.json        the scenario as rendered (command-line overrides applied)
+//   <out>/static_geometry.ply  triangle mesh (world frame, metres) of the boxes of everything static over the
+//                              sequence: not a person, the same parts in every frame (static_geometry.h)
+//   <out>/moving_volume.ply    centres of the 0.02 m cells that a person or anything not static filled at a frame
 //
 // The folder appears complete or not at all: everything goes to a "<out>.partial-<pid>" sibling that is
 // renamed at the end. A sequence replaced with `force` is renamed to "<out>.old-<pid>" first and removed once

@@ -1,17 +1,21 @@
-// Speed of the synthetic benchmark generator: the simulation, the ground-truth boxes and masks, and the whole
-// `synth` job (render + noise + PNG writing of rgb, depth and mask) per frame and for a 900-frame sequence.
+// Speed of the synthetic benchmark generator: the simulation, the ground-truth boxes and masks, the static
+// geometry and moving volume, and the whole `synth` job (render + noise + PNG writing of rgb, depth and mask) per
+// frame and for a 900-frame sequence.
 //
-//   build/src/hoidslam/synth/synth_bench --benchmark_filter='Synth|Snapshot|GroundTruth'
+//   build/src/hoidslam/synth/synth_bench --benchmark_filter='Synth|Snapshot|GroundTruth|SequenceGeometry'
 #include <benchmark/benchmark.h>
 
+#include <cstdint>
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 #include <string>
+#include <vector>
 
 #include "hoidslam/synth/renderer.h"
 #include "hoidslam/synth/scenario.h"
 #include "hoidslam/synth/sensor_noise.h"
 #include "hoidslam/synth/sequence_writer.h"
+#include "hoidslam/synth/static_geometry.h"
 #include "hoidslam/synth/world.h"
 #include "support/shared_data.h"
 #include "support/temp_dir.h"
@@ -51,6 +55,27 @@ void BM_GroundTruthBoxesAndMask(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_GroundTruthBoxesAndMask)->Unit(benchmark::kMillisecond);
+
+// The static geometry and moving volume of the 900 frames of `carry` (three people carrying things): every
+// frame added as WriteSequence adds it, both taken out at the end; items are frames.
+void BM_SequenceGeometry(benchmark::State& state) {
+  const Scenario scenario = CarryScenario(0);
+  const TextureSet textures(scenario.textures);
+  const World world(scenario, textures);
+  const CameraPath path = ScenarioCameraPath(scenario, {});
+  std::vector<SceneSnapshot> snapshots;
+  for (const CameraFrame& frame : path.frames()) {
+    snapshots.push_back(world.Snapshot(frame.timestamp - path.frames().front().timestamp));
+  }
+  for (auto _ : state) {
+    SequenceGeometry geometry(snapshots.front());
+    for (const SceneSnapshot& snapshot : snapshots) geometry.Add(snapshot);
+    benchmark::DoNotOptimize(geometry.StaticMesh());
+    benchmark::DoNotOptimize(geometry.MovingVolume());
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(snapshots.size()));
+}
+BENCHMARK(BM_SequenceGeometry)->Unit(benchmark::kMillisecond);
 
 // Encoding and writing one frame's three PNGs (colour, 16-bit depth, mask) with the settings WriteSequence uses.
 void BM_WriteFramePngs(benchmark::State& state) {

@@ -21,9 +21,11 @@
 #include "hoidslam/core/camera.h"
 #include "hoidslam/core/error.h"
 #include "hoidslam/io/detections_file.h"
+#include "hoidslam/io/ply_file.h"
 #include "hoidslam/io/rgbd_sequence.h"
 #include "hoidslam/io/trajectory_file.h"
 #include "hoidslam/synth/renderer.h"
+#include "hoidslam/synth/static_geometry.h"
 #include "hoidslam/synth/test_scenarios.h"
 #include "hoidslam/synth/world.h"
 #include "support/shared_data.h"
@@ -122,6 +124,37 @@ TEST(SequenceWriter, WritesATumSequenceTheReadersAccept) {
   EXPECT_EQ(copy.max_frames, scenario.max_frames);
 }
 
+TEST(SequenceWriter, WritesTheStaticGeometryAndTheSpaceTheWalkerFilled) {
+  testing::TempDir temp;
+  const Scenario scenario = fixtures::SmallScenario(fixtures::kWalkThenStop, 6, "xyz");
+  WriteSequence(scenario, Options(temp / "seq"));
+  const io::TriangleMesh mesh = io::ReadPlyMesh(temp / "seq" / "static_geometry.ply");
+  const io::VoxelCentres volume = io::ReadVoxelCentresPly(temp / "seq" / "moving_volume.ply");
+  EXPECT_THAT(ReadAllFiles(temp / "seq").at("static_geometry.ply"),
+              HasSubstr("\ncomment hoidslam static geometry of seq\n"));
+
+  // Nobody touches anything: the mesh is every box but the walker's, the volume the walker's cells at each frame.
+  const World world(scenario, fixtures::DefaultTextures());
+  const core::Trajectory groundtruth = io::ReadTumTrajectory(temp / "seq" / "groundtruth.txt");
+  io::TriangleMesh expected_mesh;
+  for (const SceneInstance& instance : world.Snapshot(0.0).instances) {
+    if (instance.label == "person") continue;
+    for (const Box& box : instance.parts) AppendBoxMesh(box, expected_mesh);
+  }
+  VoxelCells expected_cells(kMovingVolumeVoxelSize);
+  for (const core::StampedPose& pose : groundtruth) {
+    for (const SceneInstance& instance : world.Snapshot(pose.timestamp - groundtruth.front().timestamp).instances) {
+      if (instance.label != "person") continue;
+      for (const Box& box : instance.parts) expected_cells.AddBox(box);
+    }
+  }
+  EXPECT_EQ(mesh.vertices, expected_mesh.vertices);
+  EXPECT_EQ(mesh.triangles, expected_mesh.triangles);
+  EXPECT_EQ(volume.voxel_size, kMovingVolumeVoxelSize);
+  EXPECT_GT(volume.centres.size(), 10000U);
+  EXPECT_EQ(volume.centres, expected_cells.Centres().centres);
+}
+
 TEST(SequenceWriter, OneSeedGivesByteIdenticalFilesWhateverTheThreads) {
   testing::TempDir temp;
   Scenario scenario = fixtures::SmallScenario(fixtures::kWalkThenStop, 10, "xyz");
@@ -133,8 +166,8 @@ TEST(SequenceWriter, OneSeedGivesByteIdenticalFilesWhateverTheThreads) {
   WriteSequence(scenario, Options(temp / "b" / "seq", 1));
   const auto a = ReadAllFiles(temp / "a" / "seq");
   const auto b = ReadAllFiles(temp / "b" / "seq");
-  ASSERT_EQ(a.size(), 4U * 10U + 8U);  // rgb, depth, mask, people per frame; 3 lists, gt, 2 detections, events,
-                                       // scenario
+  ASSERT_EQ(a.size(), 4U * 10U + 10U);  // rgb, depth, mask, people per frame; 3 lists, gt, 2 detections, events,
+                                        // scenario, static geometry, moving volume
   for (const auto& [name, bytes] : a) {
     ASSERT_TRUE(b.contains(name)) << name;
     EXPECT_TRUE(bytes == b.at(name)) << name << " differs";
@@ -231,6 +264,7 @@ TEST(SequenceWriter, MasksAreEmptyWithoutPeople) {
     }
   }
   EXPECT_EQ(ReadAllFiles(temp / "seq").at("events.jsonl"), "");
+  EXPECT_TRUE(io::ReadVoxelCentresPly(temp / "seq" / "moving_volume.ply").centres.empty());
 }
 
 TEST(SequenceWriter, PosesReprojectStaticPointsAndDepthAgreesWithTheGeometry) {
