@@ -112,7 +112,7 @@ std::optional<eval::DenseScore> ScoreDenseMap(const io::RgbdSequence& sequence, 
                                               const eval::Evaluation& evaluation, const core::CameraIntrinsics& camera,
                                               const eval::DenseScoreOptions& options) {
   if (!eval::DenseTruth::Exists(sequence.root())) return std::nullopt;
-  const eval::DenseTruth truth = eval::DenseTruth::Load(sequence.root(), camera);
+  const eval::DenseTruth truth = eval::DenseTruth::Load(sequence, camera, options.view_step);
   const dense::OccupiedCells cells = dense::ReadOccupiedCells(run / "occupancy.bt");
   return eval::ScoreDenseMap(io::ReadPlyMesh(run / "mesh.ply"), &cells.centres, cells.resolution,
                              evaluation.ate.alignment, truth, options);

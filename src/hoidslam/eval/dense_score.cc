@@ -10,7 +10,6 @@
 #include <open3d/t/geometry/RaycastingScene.h>
 
 #include "hoidslam/core/error.h"
-#include "hoidslam/io/trajectory_file.h"
 
 namespace hoidslam::eval {
 
@@ -18,10 +17,13 @@ namespace {
 
 namespace o3c = open3d::core;
 
-// Rays go in batches so that the tensors stay small.
+// A frame's pose is its ground truth's within this, seconds (a synthetic sequence has one at every frame).
+constexpr double kPoseTolerance = 0.01;
+// Queries go in batches so that the tensors stay small.
 constexpr std::size_t kBatch = 1 << 18;
-// A surface sample counts as seen when the ray from the camera meets no other static surface more than this before it.
-constexpr float kVisibilityTolerance = 0.01F;
+// A surface sample counts as seen when the depth the view measured at its pixel is this close to its own (or three
+// of the sensor's standard deviations there, when more): farther means something stood in front of it.
+constexpr double kVisibilityTolerance = 0.02;
 
 o3c::Tensor PointsTensor(const std::vector<Eigen::Vector3f>& points) {
   o3c::Tensor tensor({static_cast<std::int64_t>(points.size()), 3}, o3c::Float32);
@@ -56,20 +58,6 @@ class Surface {
       std::copy_n(d.GetDataPtr<float>(), end - begin, distances.begin() + begin);
     }
     return distances;
-  }
-
-  // The distance along each ray (origin, unit direction) to the first surface it meets (infinity: none).
-  std::vector<float> Hits(const std::vector<Eigen::Vector3f>& origins, const std::vector<Eigen::Vector3f>& directions) {
-    o3c::Tensor rays({static_cast<std::int64_t>(origins.size()), 6}, o3c::Float32);
-    float* r = rays.GetDataPtr<float>();
-    for (std::size_t i = 0; i < origins.size(); ++i) {
-      for (int k = 0; k < 3; ++k) {
-        r[6 * i + k] = origins[i][k];
-        r[6 * i + 3 + k] = directions[i][k];
-      }
-    }
-    const o3c::Tensor t_hit = scene_.CastRays(rays).at("t_hit");
-    return std::vector<float>(t_hit.GetDataPtr<float>(), t_hit.GetDataPtr<float>() + origins.size());
   }
 
  private:
@@ -114,37 +102,25 @@ SurfaceSamples SampleSurface(const io::TriangleMesh& mesh, double spacing) {
   return samples;
 }
 
-// Which samples some view saw: in its image, in range, facing it, and not behind other static surface.
-std::vector<std::uint8_t> SeenSamples(const SurfaceSamples& samples, Surface& truth, const DenseTruth& sequence,
+// Which samples some view saw: in its image and range, facing it, and at the depth it measured there.
+std::vector<std::uint8_t> SeenSamples(const SurfaceSamples& samples, const DenseTruth& truth,
                                       const DenseScoreOptions& options) {
   std::vector<std::uint8_t> seen(samples.points.size(), 0);
-  const core::CameraIntrinsics& camera = sequence.camera;
-  for (std::size_t v = 0; v < sequence.camera_path.size(); v += std::max<std::size_t>(options.view_step, 1)) {
-    const core::Pose T_cw = sequence.camera_path[v].T_wc.inverse();
-    const Eigen::Vector3f centre = sequence.camera_path[v].T_wc.translation().cast<float>();
-    std::vector<std::size_t> candidates;
-    std::vector<Eigen::Vector3f> origins, directions;
-    std::vector<float> distances;
+  const core::CameraIntrinsics& camera = truth.camera;
+  for (const DenseTruth::View& view : truth.views) {
+    const core::Pose T_cw = view.T_wc.inverse();
+    const Eigen::Vector3f centre = view.T_wc.translation().cast<float>();
     for (std::size_t i = 0; i < samples.points.size(); ++i) {
       if (seen[i] != 0) continue;
       const Eigen::Vector3d p_c = T_cw * samples.points[i].cast<double>();
       if (p_c.z() < options.min_depth || p_c.z() > options.max_depth) continue;
       const Eigen::Vector2d pixel = camera.Project(p_c);
-      if (pixel.x() < 0 || pixel.y() < 0 || pixel.x() >= camera.width || pixel.y() >= camera.height) continue;
-      const Eigen::Vector3f towards = samples.points[i] - centre;
-      if (samples.normals[i].dot(towards) >= 0.0F) continue;  // seen from behind: the inside of a box
-      candidates.push_back(i);
-      origins.push_back(centre);
-      distances.push_back(towards.norm());
-      directions.push_back(towards / distances.back());
-    }
-    for (std::size_t begin = 0; begin < candidates.size(); begin += kBatch) {
-      const std::size_t end = std::min(candidates.size(), begin + kBatch);
-      const std::vector<float> hits =
-          truth.Hits({origins.begin() + begin, origins.begin() + end}, {directions.begin() + begin, directions.begin() + end});
-      for (std::size_t k = begin; k < end; ++k) {
-        if (hits[k - begin] >= distances[k] - kVisibilityTolerance) seen[candidates[k]] = 1;
-      }
+      const int u = static_cast<int>(pixel.x()), v = static_cast<int>(pixel.y());
+      if (pixel.x() < 0 || pixel.y() < 0 || u >= view.depth.cols || v >= view.depth.rows) continue;
+      if (samples.normals[i].dot(samples.points[i] - centre) >= 0.0F) continue;  // from behind: inside a box
+      const double measured = view.depth.at<float>(v, u);
+      const double tolerance = std::max(kVisibilityTolerance, 3.0 * core::KinectDepthSigma(p_c.z()));
+      if (measured > 0.0 && std::abs(measured - p_c.z()) <= tolerance) seen[i] = 1;
     }
   }
   return seen;
@@ -167,12 +143,25 @@ bool DenseTruth::Exists(const std::filesystem::path& sequence) {
          std::filesystem::is_regular_file(sequence / "moving_volume.ply");
 }
 
-DenseTruth DenseTruth::Load(const std::filesystem::path& sequence, const core::CameraIntrinsics& camera) {
+DenseTruth DenseTruth::Load(const io::RgbdSequence& sequence, const core::CameraIntrinsics& camera,
+                            std::size_t view_step) {
   DenseTruth truth;
-  truth.static_geometry = io::ReadPlyMesh(sequence / "static_geometry.ply");
-  truth.moving_volume = io::ReadVoxelCentresPly(sequence / "moving_volume.ply");
-  truth.camera_path = io::ReadTumTrajectory(sequence / "groundtruth.txt");
+  truth.static_geometry = io::ReadPlyMesh(sequence.root() / "static_geometry.ply");
+  truth.moving_volume = io::ReadVoxelCentresPly(sequence.root() / "moving_volume.ply");
   truth.camera = camera;
+  const core::Trajectory& path = sequence.groundtruth();
+  if (path.empty()) throw core::InputError::InFile(sequence.root() / "groundtruth.txt", "missing or empty");
+  for (std::size_t i = 0; i < sequence.size(); i += std::max<std::size_t>(view_step, 1)) {
+    const double stamp = sequence.entry(i).rgb_timestamp;
+    const auto after = std::lower_bound(path.begin(), path.end(), stamp,
+                                        [](const core::StampedPose& p, double t) { return p.timestamp < t; });
+    auto nearest = after;
+    if (after == path.end() || (after != path.begin() && stamp - std::prev(after)->timestamp < after->timestamp - stamp)) {
+      nearest = std::prev(after);
+    }
+    if (std::abs(nearest->timestamp - stamp) > kPoseTolerance) continue;  // a frame without a true pose
+    truth.views.push_back({nearest->T_wc, sequence.LoadFrame(i).depth});
+  }
   return truth;
 }
 
@@ -206,7 +195,7 @@ DenseScore ScoreDenseMap(const io::TriangleMesh& reconstruction, const std::vect
   }
 
   const SurfaceSamples samples = SampleSurface(truth.static_geometry, options.surface_spacing);
-  const std::vector<std::uint8_t> seen = SeenSamples(samples, static_surface, truth, options);
+  const std::vector<std::uint8_t> seen = SeenSamples(samples, truth, options);
   std::vector<Eigen::Vector3f> seen_points;
   for (std::size_t i = 0; i < seen.size(); ++i) {
     if (seen[i] != 0) seen_points.push_back(samples.points[i]);

@@ -10,12 +10,14 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <opencv2/core/mat.hpp>
 #include <nlohmann/json.hpp>
 
 #include "hoidslam/core/camera.h"
 #include "hoidslam/core/pose.h"
 #include "hoidslam/eval/alignment.h"
 #include "hoidslam/io/ply_file.h"
+#include "hoidslam/io/rgbd_sequence.h"
 
 namespace hoidslam::eval {
 
@@ -23,7 +25,7 @@ struct DenseScoreOptions {
   double completeness_distance = 0.02;  // m: a true surface point this near the reconstruction counts as mapped
   double ghost_distance = 0.05;         // m: reconstructed surface farther than this from every static one is a ghost
   double surface_spacing = 0.02;        // m between the samples of the true surface completeness is counted on
-  std::size_t view_step = 10;           // every n-th ground-truth pose is a view of where the camera looked
+  std::size_t view_step = 10;           // every n-th frame is a view of where the camera looked
   double min_depth = 0.3, max_depth = 3.0;  // m: what a view sees (the dense map's own range)
 };
 
@@ -31,20 +33,28 @@ struct DenseScoreOptions {
 struct DenseTruth {
   io::TriangleMesh static_geometry;
   io::VoxelCentres moving_volume;
-  core::Trajectory camera_path;  // groundtruth.txt
+  // Where the camera looked: views of the sequence (every view_step-th frame) with their true pose and the depth
+  // image (CV_32FC1, metres) it recorded — people in front of the static surface hide it, as they did.
+  struct View {
+    core::Pose T_wc;
+    cv::Mat depth;
+  };
+  std::vector<View> views;
   core::CameraIntrinsics camera;
 
-  // Reads <sequence>/static_geometry.ply, moving_volume.ply and groundtruth.txt; InputError naming a missing or
-  // bad file.
-  static DenseTruth Load(const std::filesystem::path& sequence, const core::CameraIntrinsics& camera);
+  // Reads static_geometry.ply, moving_volume.ply, and every view_step-th frame's depth with its ground-truth pose;
+  // InputError naming a missing or bad file.
+  static DenseTruth Load(const io::RgbdSequence& sequence, const core::CameraIntrinsics& camera,
+                         std::size_t view_step);
   static bool Exists(const std::filesystem::path& sequence);  // the sequence has the geometry files
 };
 
 struct DenseScore {
   // Accuracy: each reconstructed vertex's distance to the true static surface, m.
   double accuracy_mean = 0.0, accuracy_median = 0.0, accuracy_p90 = 0.0;
-  // Completeness: the share of the true static surface the views saw (in range, not hidden by other static surface)
-  // that lies within completeness_distance of the reconstruction.
+  // Completeness: the share of the true static surface the views saw (in range, facing the camera, at the depth the
+  // view measured there: not hidden by other surface or a person) that lies within completeness_distance of the
+  // reconstruction.
   double completeness = 0.0;
   std::size_t seen_samples = 0;
   // Ghosts: reconstructed surface farther than ghost_distance from every static surface.

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <opencv2/core.hpp>
 
 namespace hoidslam::eval {
 namespace {
@@ -40,7 +41,11 @@ DenseTruth WallTruth() {
       for (int z = 45; z < 55; ++z) truth.moving_volume.centres.emplace_back(0.02F * (x + 0.5F), 0.02F * (y + 0.5F), 0.02F * (z + 0.5F));
     }
   }
-  for (int i = 0; i < 10; ++i) truth.camera_path.push_back({0.1 * i, core::Pose::Identity()});
+  // Two views from where the camera stands, each measuring the wall's depth at every pixel.
+  for (int i = 0; i < 2; ++i) {
+    truth.views.push_back({core::Pose::Identity(), cv::Mat(truth.camera.height, truth.camera.width, CV_32FC1,
+                                                           cv::Scalar(1.95F))});
+  }
   return truth;
 }
 
@@ -61,6 +66,17 @@ TEST(ScoreDenseMap, AnExactWallIsAccurateCompleteWhereItReachesAndHasNoGhost) {
   io::TriangleMesh half;
   AddSquare(half, 1.95F, 0.585F, 0.87F);  // half of what the camera saw, in x
   EXPECT_NEAR(ScoreDenseMap(half, nullptr, 0.05, Alignment{}, truth).completeness, 0.5, 0.05);
+}
+
+TEST(ScoreDenseMap, SurfaceAPersonHidInEveryViewIsNotCountedAsMissing) {
+  DenseTruth truth = WallTruth();
+  for (DenseTruth::View& view : truth.views) view.depth.colRange(320, 640).setTo(1.0F);  // someone in front, right
+  io::TriangleMesh left;
+  AddSquare(left, 1.95F, 3.0F, 2.0F);
+  for (Eigen::Vector3f& v : left.vertices) v.x() = std::min(v.x(), 0.0F);  // the wall's left half only
+  const DenseScore score = ScoreDenseMap(left, nullptr, 0.05, Alignment{}, truth);
+  EXPECT_NEAR(score.completeness, 1.0, 0.01);
+  EXPECT_LT(score.seen_samples, 6000U);  // half of the ~10,000 the whole view holds
 }
 
 TEST(ScoreDenseMap, APersonFusedIntoTheMapIsAGhostInTheMeshAndInTheOccupancy) {
