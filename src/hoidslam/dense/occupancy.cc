@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <sstream>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -96,12 +97,27 @@ std::vector<Eigen::Vector3d> OccupancyMap::OccupiedCentres() const {
 }
 
 OccupiedCells ReadOccupiedCells(const std::filesystem::path& path) {
+  // The header read here, the nodes by OctoMap: its own readBinary says "Reading binary octree type OcTree" on stderr.
   std::ifstream in(path, std::ios::binary);
-  octomap::OcTree tree(0.1);
-  if (!in || !tree.readBinary(in)) {
-    throw core::InputError::InFile(path, "cannot read it as an OctoMap binary tree (.bt)");
+  std::string line;
+  if (!std::getline(in, line) || line != "# Octomap OcTree binary file") {
+    throw core::InputError::InFile(path, "not an OctoMap binary tree (.bt): its first line is not OctoMap's");
   }
-  OccupiedCells cells{tree.getResolution(), {}};
+  std::string id;
+  double resolution = 0.0;
+  while (std::getline(in, line) && line != "data") {
+    std::istringstream fields(line);
+    std::string key;
+    fields >> key;
+    if (key == "id") fields >> id;
+    if (key == "res") fields >> resolution;
+  }
+  if (line != "data" || id != "OcTree" || !(resolution > 0.0)) {
+    throw core::InputError::InFile(path, "an OctoMap binary tree needs 'id OcTree', 'res <m>' and 'data' in its header");
+  }
+  octomap::OcTree tree(resolution);
+  if (!tree.readBinaryData(in)) throw core::InputError::InFile(path, "its tree ends early or is damaged");
+  OccupiedCells cells{resolution, {}};
   ForEachFinestLeaf(tree, [&](const Eigen::Vector3d& centre, bool occupied) {
     if (occupied) cells.centres.push_back(centre);
   });

@@ -19,6 +19,8 @@ namespace o3c = open3d::core;
 
 // A frame's pose is its ground truth's within this, seconds (a synthetic sequence has one at every frame).
 constexpr double kPoseTolerance = 0.01;
+// m², a triangle with less is a line or a point.
+constexpr double kNoArea = 1e-12;
 // Queries go in batches so that the tensors stay small.
 constexpr std::size_t kBatch = 1 << 18;
 // A surface sample counts as seen when the depth the view measured at its pixel is this close to its own (or three
@@ -34,17 +36,27 @@ o3c::Tensor PointsTensor(const std::vector<Eigen::Vector3f>& points) {
   return tensor;
 }
 
-// A scene of `mesh` for distance and ray queries (Embree, through Open3D).
+double TriangleArea(const std::vector<Eigen::Vector3f>& v, const Eigen::Vector3i& t) {
+  return 0.5 * static_cast<double>((v[t[1]] - v[t[0]]).cross(v[t[2]] - v[t[0]]).norm());
+}
+
+// A scene of `mesh` for distance queries (Embree, through Open3D).
 class Surface {
  public:
   explicit Surface(const io::TriangleMesh& mesh) {
-    o3c::Tensor triangles({static_cast<std::int64_t>(mesh.triangles.size()), 3}, o3c::UInt32);
-    std::uint32_t* t = triangles.GetDataPtr<std::uint32_t>();
-    for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
-      for (int k = 0; k < 3; ++k) t[3 * i + k] = static_cast<std::uint32_t>(mesh.triangles[i][k]);
+    // Without triangles of no area (marching cubes makes some): Open3D's closest-point query trips its own
+    // assertion on them.
+    std::vector<Eigen::Vector3i> kept;
+    for (const Eigen::Vector3i& t : mesh.triangles) {
+      if (TriangleArea(mesh.vertices, t) > kNoArea) kept.push_back(t);
     }
-    if (!mesh.triangles.empty()) scene_.AddTriangles(PointsTensor(mesh.vertices), triangles);
-    empty_ = mesh.triangles.empty();
+    o3c::Tensor triangles({static_cast<std::int64_t>(kept.size()), 3}, o3c::UInt32);
+    std::uint32_t* t = triangles.GetDataPtr<std::uint32_t>();
+    for (std::size_t i = 0; i < kept.size(); ++i) {
+      for (int k = 0; k < 3; ++k) t[3 * i + k] = static_cast<std::uint32_t>(kept[i][k]);
+    }
+    if (!kept.empty()) scene_.AddTriangles(PointsTensor(mesh.vertices), triangles);
+    empty_ = kept.empty();
   }
 
   // Each point's distance to the surface (infinity when it has none).
@@ -64,10 +76,6 @@ class Surface {
   open3d::t::geometry::RaycastingScene scene_;
   bool empty_ = true;
 };
-
-double TriangleArea(const std::vector<Eigen::Vector3f>& v, const Eigen::Vector3i& t) {
-  return 0.5 * static_cast<double>((v[t[1]] - v[t[0]]).cross(v[t[2]] - v[t[0]]).norm());
-}
 
 double Percentile(std::vector<float> values, double share) {
   if (values.empty()) return 0.0;
