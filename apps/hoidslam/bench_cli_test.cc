@@ -195,6 +195,24 @@ TEST(CliBench, ANamedRecordingAndRandomSequencesArePlannedLikeTheOthers) {
   EXPECT_EQ(count, 6);
 }
 
+// `bench --dense`: --help says it, and every planned run makes a dense map.
+TEST(CliBench, DenseIsInTheHelpAndInEveryPlannedRun) {
+  const testing::TempDir scratch;
+  const RunResult help = RunHoidslam(scratch, {"bench", "--help"});
+  ASSERT_EQ(help.exit_status, 0) << help.err;
+  EXPECT_THAT(help.out, HasSubstr("--dense"));
+  const fs::path bench = scratch / "bench";
+  const RunResult plan = RunHoidslam(scratch, {"bench", "--scenarios", "walking_xyz", "--modes", "none,hoidplus",
+                                               "--runs", "2", "--area-sweep", "none", "--depth-sweep", "none",
+                                               "--dense", "--plan", "--out", bench.string()});
+  ASSERT_EQ(plan.exit_status, 0) << plan.err;
+  EXPECT_EQ(nlohmann::json::parse(testing::ReadText(bench / "plan.json"))["options"]["dense"], true);
+  std::istringstream jobs(testing::ReadText(bench / "jobs.txt"));
+  int count = 0;
+  for (std::string job; std::getline(jobs, job); ++count) EXPECT_THAT(job, HasSubstr(" --dense ")) << job;
+  EXPECT_EQ(count, 4);
+}
+
 // The demo on a short stretch of its scenario: several runs of each mode, the medians with the frames tracked, a
 // sentence on what they show and a verdict on the default, and where to watch a run live.
 TEST(CliDemo, PrintsEachModesMedianBesideTheFramesTrackedAndSaysWhatItShows) {

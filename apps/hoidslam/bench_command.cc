@@ -138,7 +138,8 @@ void AddBenchCommand(CLI::App& app) {
       "bench",
       "Filter modes × sequences × runs as parallel processes, with tables like the paper's: ATE per mode, 2D vs 3D, "
       "the interaction-area and depth-threshold sweeps, RPE, frames lost, robustness (frames tracked, false "
-      "relocalisations, loops and merges, loop recall), time per stage and exclusion quality (docs/bench.md)");
+      "relocalisations, loops and merges, loop recall), time per stage, exclusion quality and, with --dense, the dense "
+      "map's quality (docs/bench.md)");
   command->add_option("sequences", args->folders,
                       "TUM / Bonn sequence folders to run besides (or instead of) the synthetic scenarios, or names "
                       "of the shared real recordings (fr1_rpy: $HOIDSLAM_SHARED_DIR/data/tum/fr1_rpy)");
@@ -189,6 +190,9 @@ void AddBenchCommand(CLI::App& app) {
   command->add_option("--detector-latency", args->options.detector_latency_ms,
                       "Runs with every detection taking at least this many ms (a simulated latency)")
       ->check(CLI::Range(0.0, 60000.0));
+  command->add_flag("--dense", args->options.dense,
+                    "Runs with a dense map of the static world (run --dense, docs/dense.md); the tables add its ghost "
+                    "surface, accuracy and completeness against a synthetic sequence's geometry, and its cost");
   command->add_option("--model", args->options.model,
                       "ONNX detector for sequence folders without a detections.jsonl");
   command->add_option("--settings", args->settings,

@@ -104,6 +104,7 @@ std::vector<std::string> Plan::RunCommand(const RunSpec& spec) const {
   if (options.detector_latency_ms > 0) {
     command.insert(command.end(), {"--detector-latency", Number(options.detector_latency_ms)});
   }
+  if (options.dense) command.push_back("--dense");
   const bool has_detections = fs::exists(sequence.path / "detections.jsonl") || sequence.Rendered();
   if (!options.model.empty() && !has_detections && variant.mode != "none" && variant.mode != "oracle") {
     command.insert(command.end(), {"--model", options.model.string()});
@@ -249,6 +250,7 @@ nlohmann::json PlanToJson(const Plan& plan) {
             {"realtime", o.realtime},
             {"pace", o.pace},
             {"detector_latency_ms", o.detector_latency_ms},
+            {"dense", o.dense},
             {"model", o.model.string()},
             {"snapshots", o.snapshots},
             {"timeout_seconds", o.timeout_seconds}}},
@@ -277,6 +279,8 @@ Plan PlanFromJson(const nlohmann::json& json, const fs::path& file) {
     plan.options.realtime = o.value("realtime", false);
     plan.options.pace = o.value("pace", false);
     plan.options.detector_latency_ms = o.value("detector_latency_ms", 0.0);
+    // Benches planned before dense maps existed made none.
+    plan.options.dense = o.value("dense", false);
     plan.options.model = o.at("model").get<std::string>();
     plan.options.snapshots = o.at("snapshots").get<std::size_t>();
     plan.options.timeout_seconds = o.at("timeout_seconds").get<double>();

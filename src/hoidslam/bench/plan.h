@@ -53,6 +53,7 @@ struct BenchOptions {
   bool realtime = false;          // `run --realtime`: the detector in its own thread
   bool pace = false;              // `run --pace`: frames at their recorded rate, as from a live camera
   double detector_latency_ms = 0;  // `run --detector-latency`: a simulated detector latency
+  bool dense = false;             // `run --dense`: every run also maps the static world densely (the dense tables)
   std::filesystem::path model;    // ONNX model for sequences without a detections.jsonl
   std::size_t snapshots = 6;      // annotated frames in the first run of each mode and sequence
   double timeout_seconds = 3600;  // a run taking longer is stopped and recorded as failed (0 = no limit)

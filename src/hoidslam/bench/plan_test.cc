@@ -152,6 +152,29 @@ TEST(Plan, RunCommandCarriesEverythingTheRunNeeds) {
               ElementsAre("--frames", "100", "--realtime", "--pace", "--detector-latency", "40", "--snapshots", "6"));
 }
 
+TEST(Plan, DenseGoesIntoEveryRunCommandAndThePlanFile) {
+  BenchOptions options;
+  options.runs = 2;
+  options.modes = {"none", "hoidplus", "oracle"};
+  options.area_sweep = {0.3};
+  options.depth_sweep = {};
+  options.dense = true;
+  const Plan plan = MakePlan(options, {SyntheticSequence("walking_xyz")}, "/bin/hoidslam", "/b");
+  ASSERT_EQ(plan.runs.size(), 4U * 2U);  // the sweep's runs too
+  for (const RunSpec& spec : plan.runs) EXPECT_THAT(plan.RunCommand(spec), Contains("--dense")) << spec.id;
+
+  nlohmann::json json = PlanToJson(plan);
+  EXPECT_EQ(json["options"]["dense"], true);
+  const Plan back = PlanFromJson(json, "plan.json");
+  EXPECT_TRUE(back.options.dense);
+  EXPECT_EQ(back.RunCommand(back.runs[7]), plan.RunCommand(plan.runs[7]));
+  // A plan written before dense maps existed: runs without.
+  json["options"].erase("dense");
+  const Plan older = PlanFromJson(json, "plan.json");
+  EXPECT_FALSE(older.options.dense);
+  EXPECT_THAT(older.RunCommand(older.runs[0]), ::testing::Not(Contains("--dense")));
+}
+
 TEST(Plan, PrepareCommandRendersTheScenario) {
   BenchOptions options;
   options.synth_frames = 300;

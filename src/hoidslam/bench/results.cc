@@ -88,6 +88,17 @@ RunResult ReadRunResult(const Plan& plan, const RunSpec& spec) {
     result.returns_recalled = Optional(s, Pointer("/evaluation/loop_recall/recalled"));
     result.closures_judged = Optional(s, Pointer("/evaluation/loop_recall/closures"));
     result.closures_confirmed = Optional(s, Pointer("/evaluation/loop_recall/confirmed"));
+    result.dense_area = Optional(s, Pointer("/dense/mesh/area_m2"));
+    result.dense_fuse_ms = Optional(s, Pointer("/dense/median_fuse_ms"));
+    result.dense_build_seconds = Optional(s, Pointer("/dense/build_seconds"));
+    result.dense_volume_mb = Optional(s, Pointer("/dense/volume_mb"));
+    result.dense_accuracy_median = Optional(s, Pointer("/evaluation/dense/accuracy_m/median"));
+    result.dense_accuracy_p90 = Optional(s, Pointer("/evaluation/dense/accuracy_m/p90"));
+    result.dense_completeness = Optional(s, Pointer("/evaluation/dense/completeness"));
+    result.dense_ghost_area = Optional(s, Pointer("/evaluation/dense/ghost_area_m2"));
+    result.dense_ghost_share = Optional(s, Pointer("/evaluation/dense/ghost_share"));
+    result.dense_occupied_cells = Optional(s, Pointer("/evaluation/dense/occupied_cells"));
+    result.dense_ghost_cells = Optional(s, Pointer("/evaluation/dense/ghost_cells"));
   } catch (const nlohmann::json::exception& e) {
     throw core::InputError::InFile(summary_path, fmt::format("not a run summary: {}", e.what()));
   }
@@ -168,6 +179,21 @@ nlohmann::json RunResultToJson(const RunResult& r) {
                  {"filter", r.median_ms.filter},
                  {"track", r.median_ms.track},
                  {"tracking_total", r.median_ms.tracking_total}}}});
+  // null for a run without a dense map; the figures of its evaluation null without the sequence's geometry.
+  json["dense"] = nullptr;
+  if (r.dense_area) {
+    json["dense"] = {{"area_m2", optional(r.dense_area)},
+                     {"median_fuse_ms", optional(r.dense_fuse_ms)},
+                     {"build_seconds", optional(r.dense_build_seconds)},
+                     {"volume_mb", optional(r.dense_volume_mb)},
+                     {"accuracy_median_m", optional(r.dense_accuracy_median)},
+                     {"accuracy_p90_m", optional(r.dense_accuracy_p90)},
+                     {"completeness", optional(r.dense_completeness)},
+                     {"ghost_area_m2", optional(r.dense_ghost_area)},
+                     {"ghost_share", optional(r.dense_ghost_share)},
+                     {"occupied_cells", optional(r.dense_occupied_cells)},
+                     {"ghost_cells", optional(r.dense_ghost_cells)}};
+  }
   return json;
 }
 

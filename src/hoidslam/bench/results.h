@@ -44,6 +44,15 @@ struct RunResult {
   // and those the ground truth confirmed; absent without ground truth (and in runs made before it was measured).
   std::optional<double> return_events, returns_recalled, closures_judged, closures_confirmed;
   std::size_t covered = 0;  // frames of the run with the lens covered (the sequence's events.jsonl)
+  // The dense map of a run with --dense: its mesh's surface (m²), the median time to fuse a keyframe (ms), the time
+  // to build it after the run (s) and its volume's memory (MB); absent without --dense.
+  std::optional<double> dense_area, dense_fuse_ms, dense_build_seconds, dense_volume_mb;
+  // The dense map against the sequence's exact geometry (eval/dense_score.h): its vertices' distance to the static
+  // surface (m), the share of the static surface in view it mapped, its surface farther from every static one (m²)
+  // and that surface's share, the occupancy map's occupied cells and of them those only people and moved objects
+  // filled; absent without the geometry (real recordings).
+  std::optional<double> dense_accuracy_median, dense_accuracy_p90, dense_completeness, dense_ghost_area,
+      dense_ghost_share, dense_occupied_cells, dense_ghost_cells;
 };
 
 // Frames in [0, frames) the lens was covered in, by the `cover_lens` / `uncover_lens` lines of a synthetic

@@ -39,22 +39,31 @@ TEST(CoveredFrames, CountsTheFramesOfTheRunBetweenCoveringAndUncovering) {
   }
 }
 
-TEST(ReadRunResult, ReadsMergesLoopRecallAndTheCoveredFrames) {
-  const testing::TempDir scratch;
+// A plan of one hoidplus run of the scenario `name`, its sequence and run folders made in `scratch`.
+Plan OneRun(const testing::TempDir& scratch, const std::string& name) {
   BenchOptions options;
   options.runs = 1;
   options.modes = {"hoidplus"};
   options.area_sweep = options.depth_sweep = {};
-  BenchSequence sequence = SyntheticSequence("kidnap");
-  sequence.path = scratch / "kidnap";
+  BenchSequence sequence = SyntheticSequence(name);
+  sequence.path = scratch / name;
   const Plan plan = MakePlan(options, {sequence}, "/bin/hoidslam", scratch.path());
-  fs::create_directories(scratch / "kidnap");
+  fs::create_directories(sequence.path);
   fs::create_directories(plan.RunFolder(plan.runs[0]));
+  return plan;
+}
+
+// The start of a summary.json, up to the objects a test adds.
+constexpr const char* kSummaryStart = R"({
+    "interrupted": false, "frames": 100, "tracked": 94, "lost": 6, "before_initialization": 0,
+    "median_ms": {"load": 1, "extract": 2, "detect": 0, "filter": 0, "track": 2, "tracking_total": 4})";
+
+TEST(ReadRunResult, ReadsMergesLoopRecallAndTheCoveredFrames) {
+  const testing::TempDir scratch;
+  const Plan plan = OneRun(scratch, "kidnap");
   testing::WriteText(scratch / "kidnap" / "events.jsonl",
                      "{\"action\":\"cover_lens\",\"frame\":60}\n{\"action\":\"uncover_lens\",\"frame\":66}\n");
-  testing::WriteText(plan.RunFolder(plan.runs[0]) / "summary.json", R"({
-    "interrupted": false, "frames": 100, "tracked": 94, "lost": 6, "before_initialization": 0,
-    "median_ms": {"load": 1, "extract": 2, "detect": 0, "filter": 0, "track": 2, "tracking_total": 4},
+  testing::WriteText(plan.RunFolder(plan.runs[0]) / "summary.json", std::string(kSummaryStart) + R"(,
     "evaluation": {"ate": {"error_m": {"rmse": 0.01, "mean": 0.009, "median": 0.008}},
                    "loops": {"count": 2, "false": 0}, "merges": {"count": 1, "false": 1},
                    "loop_recall": {"events": 3, "recalled": 2, "closures": 3, "confirmed": 2}}})");
@@ -68,6 +77,51 @@ TEST(ReadRunResult, ReadsMergesLoopRecallAndTheCoveredFrames) {
   EXPECT_EQ(result.closures_confirmed, 2.0);
   EXPECT_EQ(result.covered, 6U);
   EXPECT_EQ(RunResultToJson(result)["covered"], 6);
+  // A run without --dense: no dense figures.
+  EXPECT_EQ(result.dense_area, std::nullopt);
+  EXPECT_EQ(result.dense_completeness, std::nullopt);
+  EXPECT_TRUE(RunResultToJson(result)["dense"].is_null());
+}
+
+TEST(ReadRunResult, ReadsTheDenseMapAndItsScoreAgainstTheGeometry) {
+  const testing::TempDir scratch;
+  const Plan plan = OneRun(scratch, "walking_xyz");
+  const fs::path summary = plan.RunFolder(plan.runs[0]) / "summary.json";
+  const std::string dense = R"(,
+    "dense": {"written": true, "keyframes": 12, "mesh": {"vertices": 5000, "triangles": 9000, "area_m2": 14.5},
+              "cloud_points": 4000, "occupied_cells": 2100, "volume_mb": 48.2, "held_mb": 60.1,
+              "median_fuse_ms": 23.5, "build_seconds": 1.75, "options": {"voxel_size": 0.02}})";
+  testing::WriteText(summary, std::string(kSummaryStart) + dense + R"(,
+    "evaluation": {"ate": {"error_m": {"rmse": 0.01, "mean": 0.009, "median": 0.008}},
+                   "dense": {"accuracy_m": {"mean": 0.006, "median": 0.004, "p90": 0.012}, "completeness": 0.87,
+                             "seen_samples": 30000, "area_m2": 14.5, "ghost_area_m2": 0.3, "ghost_share": 0.0207,
+                             "occupied_cells": 2000, "ghost_cells": 15, "options": {"ghost_distance": 0.05}}}})");
+  RunResult result = ReadRunResult(plan, plan.runs[0]);
+  EXPECT_EQ(result.dense_area, 14.5);
+  EXPECT_EQ(result.dense_fuse_ms, 23.5);
+  EXPECT_EQ(result.dense_build_seconds, 1.75);
+  EXPECT_EQ(result.dense_volume_mb, 48.2);
+  EXPECT_EQ(result.dense_accuracy_median, 0.004);
+  EXPECT_EQ(result.dense_accuracy_p90, 0.012);
+  EXPECT_EQ(result.dense_completeness, 0.87);
+  EXPECT_EQ(result.dense_ghost_area, 0.3);
+  EXPECT_EQ(result.dense_ghost_share, 0.0207);
+  EXPECT_EQ(result.dense_occupied_cells, 2000.0);
+  EXPECT_EQ(result.dense_ghost_cells, 15.0);
+  nlohmann::json json = RunResultToJson(result);
+  EXPECT_EQ(json["dense"]["area_m2"], 14.5);
+  EXPECT_EQ(json["dense"]["ghost_cells"], 15.0);
+
+  // A sequence without its exact geometry (a real recording): the dense map, no score.
+  testing::WriteText(summary, std::string(kSummaryStart) + dense + "}");
+  result = ReadRunResult(plan, plan.runs[0]);
+  EXPECT_EQ(result.dense_area, 14.5);
+  EXPECT_EQ(result.dense_accuracy_median, std::nullopt);
+  EXPECT_EQ(result.dense_ghost_area, std::nullopt);
+  EXPECT_EQ(result.dense_ghost_cells, std::nullopt);
+  json = RunResultToJson(result);
+  EXPECT_EQ(json["dense"]["build_seconds"], 1.75);
+  EXPECT_TRUE(json["dense"]["completeness"].is_null());
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "hoidslam/eval/dense_score.h"
 #include "hoidslam/eval/pose_check.h"
 #include "hoidslam/eval/statistics.h"
 
@@ -14,6 +15,13 @@ namespace hoidslam::bench {
 namespace {
 
 using Value = std::function<std::optional<double>(const RunResult&)>;
+using Format = std::function<std::string(double)>;
+
+// A figure of a run and how a cell shows its median.
+struct Figure {
+  Value value;
+  Format format;
+};
 
 double Median(std::vector<double> values) { return eval::ComputeStatistics(values).median; }
 
@@ -128,6 +136,20 @@ class Grid {
     return format(*median) + (tracked ? Tracked(sequence, *variant) : "") + Shortfall(sequence, *variant);
   }
 
+  // Several figures of the same runs in one cell: their medians joined by `separator`, as Cell shows one; or why
+  // there is no number, as Cell says it for the first figure without one.
+  std::string Joined(std::size_t sequence, std::size_t variant, const std::vector<Figure>& figures,
+                     std::string_view separator, bool tracked = false) const {
+    std::vector<std::string> medians;
+    for (const Figure& figure : figures) {
+      const std::optional<double> median = MedianOf(sequence, variant, figure.value);
+      if (!median) return Cell(sequence, variant, figure.value, figure.format);
+      medians.push_back(figure.format(*median));
+    }
+    return fmt::format("{}", fmt::join(medians, separator)) + (tracked ? Tracked(sequence, variant) : "") +
+           Shortfall(sequence, variant);
+  }
+
   // " (826/826 tracked)": the medians of the frames tracked and of the frames over the cell's finished runs, the
   // runs its ATE is the median of. Not the tracked count of the median run: of an even count of runs the median
   // ATE is no one run's.
@@ -208,24 +230,35 @@ report::Table PerMode(const Plan& plan, std::string title, const CellText& cell)
   return table;
 }
 
-// PerMode with one value per cell (with the frames tracked when `tracked`), and a last row with the median over the
-// sequences (when there are several and every one has a number).
-report::Table PerMode(const Plan& plan, const Grid& grid, std::string title, const Value& value,
-                      const std::function<std::string(double)>& format, bool tracked = false) {
+// PerMode with the medians of `figures` in each cell (Grid::Joined, with the frames tracked when `tracked`), and a
+// last row with their medians over the sequences (when there are several and every one has a number).
+report::Table PerMode(const Plan& plan, const Grid& grid, std::string title, const std::vector<Figure>& figures,
+                      std::string_view separator, bool tracked = false) {
   report::Table table = PerMode(plan, std::move(title), [&](std::size_t s, std::size_t v) {
-    return grid.Cell(s, v, value, format, tracked);
+    return grid.Joined(s, v, figures, separator, tracked);
   });
   if (plan.sequences.size() < 2) return table;
   std::vector<std::string> row = {"median of the sequences"};
   for (const std::size_t v : PlainVariants(plan)) {
-    std::vector<double> medians;
-    for (std::size_t s = 0; s < plan.sequences.size(); ++s) {
-      if (const std::optional<double> m = grid.MedianOf(s, v, value)) medians.push_back(*m);
+    std::vector<std::string> medians;
+    for (const Figure& figure : figures) {
+      std::vector<double> values;
+      for (std::size_t s = 0; s < plan.sequences.size(); ++s) {
+        if (const std::optional<double> m = grid.MedianOf(s, v, figure.value)) values.push_back(*m);
+      }
+      if (values.size() < plan.sequences.size()) break;
+      medians.push_back(figure.format(Median(values)));
     }
-    row.push_back(medians.size() == plan.sequences.size() ? format(Median(medians)) : "–");
+    row.push_back(medians.size() == figures.size() ? fmt::format("{}", fmt::join(medians, separator)) : "–");
   }
   table.rows.push_back(std::move(row));
   return table;
+}
+
+// PerMode with one figure per cell.
+report::Table PerMode(const Plan& plan, const Grid& grid, std::string title, const Value& value, const Format& format,
+                      bool tracked = false) {
+  return PerMode(plan, grid, std::move(title), {{value, format}}, "", tracked);
 }
 
 report::Table Sweep(const Plan& plan, const Grid& grid, const std::string& mode, const std::vector<double>& values,
@@ -358,6 +391,122 @@ report::Table RandomDistribution(const Plan& plan, const Grid& grid, const std::
   return table;
 }
 
+std::string Millimetres(double v) { return fmt::format("{:.1f}", 1000.0 * v); }
+std::string OneDecimal(double v) { return fmt::format("{:.1f}", v); }
+std::string GhostArea(double v) { return fmt::format("{:.3f}", v); }
+
+const Value kDenseArea = [](const RunResult& r) { return r.dense_area; };
+const Value kGhostArea = [](const RunResult& r) { return r.dense_ghost_area; };
+const Value kDenseAccuracy = [](const RunResult& r) { return r.dense_accuracy_median; };
+const Value kCompleteness = [](const RunResult& r) { return r.dense_completeness; };
+
+// Whether any run has `value`: a bench without --dense, or without a sequence carrying its geometry, has no dense
+// table of it.
+bool AnyRunHas(const std::vector<RunResult>& results, const Value& value) {
+  return std::any_of(results.begin(), results.end(), [&](const RunResult& r) { return value(r).has_value(); });
+}
+
+// Per sequence and plain mode: its dense map's ghost surface as a multiple of none's and oracle's on the sequence,
+// and its accuracy and completeness as a multiple of oracle's (of the medians over the runs). The columns of a
+// mode the plan does not run are left out; without none and oracle there is no table.
+std::optional<report::Table> DenseAgainstReferences(const Plan& plan, const Grid& grid, const std::string& note) {
+  struct Ratio {
+    std::string header;
+    Value value;
+    std::size_t reference;
+  };
+  std::vector<Ratio> ratios;
+  if (const std::optional<std::size_t> none = PlainVariant(plan, "none")) {
+    ratios.push_back({"ghost surface / none's", kGhostArea, *none});
+  }
+  if (const std::optional<std::size_t> oracle = PlainVariant(plan, "oracle")) {
+    ratios.push_back({"ghost surface / oracle's", kGhostArea, *oracle});
+    ratios.push_back({"accuracy / oracle's", kDenseAccuracy, *oracle});
+    ratios.push_back({"completeness / oracle's", kCompleteness, *oracle});
+  }
+  if (ratios.empty()) return std::nullopt;
+  report::Table table{
+      .title = "Dense map against no filter and the oracle: ghost surface, accuracy and completeness as multiples",
+      .note = note + " Each mode's median over its runs divided by the reference mode's on the same sequence; –: the "
+                     "reference has no number there, or 0. The targets of the default mode, hoidplus: a ghost surface "
+                     "at most 0.2× none's and 2× oracle's, accuracy within 1.2× oracle's, completeness at least 0.9× "
+                     "oracle's.",
+      .header = {"sequence", "mode"},
+      .rows = {}};
+  for (const Ratio& ratio : ratios) table.header.push_back(ratio.header);
+  for (std::size_t s = 0; s < plan.sequences.size(); ++s) {
+    for (const std::size_t v : PlainVariants(plan)) {
+      if (plan.sequences[s].problem.empty() && grid.group(s, v).planned == 0) continue;  // not applicable (oracle)
+      std::vector<std::string> row = {plan.sequences[s].name, plan.variants[v].Name()};
+      for (const Ratio& ratio : ratios) {
+        const std::optional<double> own = grid.MedianOf(s, v, ratio.value);
+        if (!own) {
+          row.push_back(grid.Cell(s, v, ratio.value, OneDecimal));  // says why not
+          continue;
+        }
+        const std::optional<double> reference = grid.MedianOf(s, ratio.reference, ratio.value);
+        row.push_back(reference && *reference > 0.0 ? fmt::format("{:.2f}×", *own / *reference) : "–");
+      }
+      table.rows.push_back(std::move(row));
+    }
+  }
+  return table;
+}
+
+// The dense map of a bench with --dense: against the exact geometry of the sequences that carry it (synthetic ones),
+// and what it cost.
+void AddDenseTables(const Plan& plan, const Grid& grid, const std::vector<RunResult>& results,
+                    std::vector<NamedTable>& tables) {
+  const std::string note =
+      RunsNote(plan, plan.options.runs) +
+      " The dense map is scored against the sequence's exact geometry (static_geometry.ply and moving_volume.ply, "
+      "which synthetic sequences carry); – on a sequence without it.";
+  const auto scored = [&](std::string title, const std::vector<Figure>& figures, std::string_view separator) {
+    report::Table table = PerMode(plan, grid, std::move(title), figures, separator);
+    table.note = note;
+    return table;
+  };
+  const Value ghost_share = [](const RunResult& r) { return r.dense_ghost_share; };
+  const Value accuracy_p90 = [](const RunResult& r) { return r.dense_accuracy_p90; };
+  const Value ghost_cells = [](const RunResult& r) { return r.dense_ghost_cells; };
+  const Value occupied_cells = [](const RunResult& r) { return r.dense_occupied_cells; };
+  const Value fuse_ms = [](const RunResult& r) { return r.dense_fuse_ms; };
+  const Value build_seconds = [](const RunResult& r) { return r.dense_build_seconds; };
+  const Value volume_mb = [](const RunResult& r) { return r.dense_volume_mb; };
+  const eval::DenseScoreOptions score;  // what `run --dense` scores with
+  if (AnyRunHas(results, kGhostArea)) {
+    tables.push_back({"dense_ghost_area",
+                      scored(fmt::format("Dense map: ghost surface (m²), farther than {:g} cm from every static "
+                                         "surface, and its share of the map's",
+                                         100.0 * score.ghost_distance),
+                             {{kGhostArea, GhostArea}, {ghost_share, Percent}}, " / ")});
+    tables.push_back({"dense_accuracy",
+                      scored("Dense map: accuracy (mm), the distance of its vertices to the true static surface, "
+                             "median / 90th percentile",
+                             {{kDenseAccuracy, Millimetres}, {accuracy_p90, Millimetres}}, " / ")});
+    tables.push_back({"dense_completeness",
+                      scored(fmt::format("Dense map: completeness (%), the static surface in view mapped within {:g} "
+                                         "cm",
+                                         100.0 * score.completeness_distance),
+                             {{kCompleteness, Percent}}, "")});
+    if (std::optional<report::Table> against = DenseAgainstReferences(plan, grid, note)) {
+      tables.push_back({"dense_against", std::move(*against)});
+    }
+  }
+  if (AnyRunHas(results, ghost_cells)) {
+    tables.push_back({"dense_ghost_cells",
+                      scored("Dense map: occupancy ghost cells, occupied where only people and moved objects ever "
+                             "were, of the occupied cells",
+                             {{ghost_cells, Count}, {occupied_cells, Count}}, " of ")});
+  }
+  if (AnyRunHas(results, kDenseArea)) {
+    tables.push_back({"dense_time", PerMode(plan, grid, "Dense map: fusion (ms a keyframe) and final build (s)",
+                                            {{fuse_ms, OneDecimal}, {build_seconds, OneDecimal}}, " / ")});
+    tables.push_back({"dense_size", PerMode(plan, grid, "Dense map: mesh surface (m²) and the volume's memory (MB)",
+                                            {{kDenseArea, OneDecimal}, {volume_mb, OneDecimal}}, " / ")});
+  }
+}
+
 }  // namespace
 
 const report::Table* FindTable(const std::vector<NamedTable>& tables, const std::string& name) {
@@ -391,14 +540,8 @@ std::vector<NamedTable> BuildTables(const Plan& plan, const std::vector<RunResul
   tables.push_back({"ate_statistics",
                     PerMode(plan, "ATE RMSE / mean / median (m), as in the paper's Tables 3 and 5",
                             [&](std::size_t s, std::size_t v) {
-                              const auto r = grid.MedianOf(s, v, kAteRmse);
-                              const auto a = grid.MedianOf(s, v, mean);
-                              const auto m = grid.MedianOf(s, v, median);
-                              if (!r || !a || !m || !plan.sequences[s].problem.empty()) {
-                                return grid.Cell(s, v, kAteRmse, Metres);  // says why there is no number
-                              }
-                              return fmt::format("{} / {} / {}{}{}", Metres(*r), Metres(*a), Metres(*m),
-                                                 grid.Tracked(s, v), grid.Shortfall(s, v));
+                              return grid.Joined(s, v, {{kAteRmse, Metres}, {mean, Metres}, {median, Metres}}, " / ",
+                                                 true);
                             })});
 
   if (has_mode("hoid2d") && has_mode("hoid3d")) {
@@ -494,6 +637,8 @@ std::vector<NamedTable> BuildTables(const Plan& plan, const std::vector<RunResul
     tables.push_back({"wasted", PerMode(plan, grid, "Exclusion quality: static keypoints dropped (wasted)",
                                         [](const RunResult& r) { return r.wasted; }, Percent)});
   }
+
+  AddDenseTables(plan, grid, results, tables);
 
   report::Table timing{.title = "Time per stage (ms per frame): median over the runs of each run's median",
                        .note = "Tracking = extraction + filter + tracking, the detector excluded. Runs that share "

@@ -1,9 +1,10 @@
 #pragma once
 // The bench's results as tables in the shape of the paper's: ATE per mode and sequence (its Tables 3 and 5),
 // 2D against 3D (Table 6), the sweeps of the minimum interaction area (Table 2) and of the depth threshold, RPE,
-// frames lost, time per stage, and the exclusion quality against the ground-truth masks. Every cell is the
-// median over the runs that finished; a cell with fewer finished runs than planned says how many, and a mode or
-// sequence whose runs all failed says "failed", never a number.
+// frames lost, time per stage, the exclusion quality against the ground-truth masks, and with --dense the dense map
+// against a synthetic sequence's exact geometry and what it cost. Every cell is the median over the runs that
+// finished; a cell with fewer finished runs than planned says how many, and a mode or sequence whose runs all failed
+// says "failed", never a number.
 
 #include <string>
 #include <vector>

@@ -211,6 +211,10 @@ TEST_F(BenchTables, RunsFarAboveTheirCellsMedianAreCountedAsJumps) {
   EXPECT_TRUE(table.note.starts_with("Of the 3 runs of each cell")) << table.note;
 }
 
+TEST_F(BenchTables, NoDenseTablesWithoutADenseMap) {
+  for (const NamedTable& t : tables_) EXPECT_FALSE(t.name.starts_with("dense")) << t.name;
+}
+
 TEST_F(BenchTables, LostExclusionQualityAndTiming) {
   EXPECT_EQ(Find(tables_, "lost").rows[0][1], "0");  // median of 0, 0, 2
   EXPECT_EQ(Find(tables_, "leaked").rows[0][2], "10.0 %");
@@ -347,6 +351,98 @@ TEST(BuildTables, TheRandomSequencesHaveADistributionOfTheirOwn) {
   // Without random sequences there is no such table.
   const Plan shipped = MakePlan(options, {SyntheticSequence("carry")}, "/bin/hoidslam", "/b");
   EXPECT_EQ(FindTable(BuildTables(shipped, std::vector<RunResult>(shipped.runs.size(), Ok(0.01))), "random"), nullptr);
+}
+
+// A run with --dense: its map's cost and size, and its score against the sequence's geometry unless `ghost_area` is
+// absent (a real recording).
+RunResult Dense(double fuse_ms, double build_seconds, std::optional<double> ghost_area = std::nullopt,
+                double accuracy = 0.0, double completeness = 0.0, double ghost_cells = 0.0) {
+  RunResult r = Ok(0.01);
+  r.dense_area = 11.0;
+  r.dense_volume_mb = 48.0;
+  r.dense_fuse_ms = fuse_ms;
+  r.dense_build_seconds = build_seconds;
+  if (!ghost_area) return r;
+  r.dense_ghost_area = *ghost_area;
+  r.dense_ghost_share = *ghost_area / 11.0;
+  r.dense_accuracy_median = accuracy;
+  r.dense_accuracy_p90 = 3.0 * accuracy;
+  r.dense_completeness = completeness;
+  r.dense_occupied_cells = 2000.0;
+  r.dense_ghost_cells = ghost_cells;
+  return r;
+}
+
+TEST(BuildTables, DenseTablesShowEachCellsMediansAndTheRatiosToNoneAndOracle) {
+  BenchOptions options;
+  options.runs = 3;
+  options.modes = {"none", "hoidplus", "oracle"};
+  options.area_sweep = options.depth_sweep = {};
+  options.dense = true;
+  // walking_xyz carries its geometry; fr3_walking is a real recording: its dense maps are not scored, and it has
+  // no oracle.
+  const Plan plan = MakePlan(options, {SyntheticSequence("walking_xyz"), TumSequence("fr3_walking")}, "/bin/hoidslam",
+                             "/b");
+  std::vector<RunResult> results;
+  for (const RunSpec& spec : plan.runs) {
+    const std::size_t k = spec.run - 1;
+    const std::string& mode = plan.variants[spec.variant].mode;
+    if (plan.sequences[spec.sequence].name == "fr3_walking") {
+      if (mode == "hoidplus" && spec.run == 2) {
+        results.push_back(Failed());
+      } else {
+        results.push_back(Dense(std::vector{16.0, 15.0, 14.0}[k], std::vector{1.7, 1.6, 1.5}[k]));
+      }
+    } else if (mode == "none") {
+      results.push_back(Dense(20.0, 2.0, std::vector{1.2, 1.0, 1.1}[k], 0.010, 0.85, std::vector{40.0, 50.0, 60.0}[k]));
+    } else if (mode == "hoidplus") {
+      // Run 2 fused a person: the median is the others'.
+      results.push_back(Dense(22.0, 2.2, std::vector{0.11, 0.44, 0.10}[k], std::vector{0.006, 0.009, 0.005}[k], 0.88,
+                              std::vector{3.0, 9.0, 2.0}[k]));
+    } else {
+      results.push_back(Dense(21.0, 2.1, std::vector{0.05, 0.06, 0.07}[k], 0.005, 0.90, 1.0));
+    }
+  }
+  const std::vector<NamedTable> tables = BuildTables(plan, results);
+
+  const report::Table& ghost = Find(tables, "dense_ghost_area");
+  EXPECT_THAT(ghost.header, ElementsAre("sequence", "none", "hoidplus", "oracle"));
+  EXPECT_THAT(ghost.rows, ElementsAre(ElementsAre("walking_xyz", "1.100 / 10.0 %", "0.110 / 1.0 %", "0.060 / 0.5 %"),
+                                      ElementsAre("fr3_walking", "–", "–", "–"),
+                                      ElementsAre("median of the sequences", "–", "–", "–")));
+  EXPECT_THAT(ghost.title, ::testing::HasSubstr("farther than 5 cm"));
+  EXPECT_THAT(ghost.note, ::testing::HasSubstr("static_geometry.ply"));
+  EXPECT_THAT(Find(tables, "dense_accuracy").rows[0], ElementsAre("walking_xyz", "10.0 / 30.0", "6.0 / 18.0", "5.0 / 15.0"));
+  EXPECT_THAT(Find(tables, "dense_completeness").rows[0], ElementsAre("walking_xyz", "85.0 %", "88.0 %", "90.0 %"));
+  EXPECT_THAT(Find(tables, "dense_ghost_cells").rows[0],
+              ElementsAre("walking_xyz", "50 of 2000", "3 of 2000", "1 of 2000"));
+
+  const report::Table& against = Find(tables, "dense_against");
+  EXPECT_THAT(against.header, ElementsAre("sequence", "mode", "ghost surface / none's", "ghost surface / oracle's",
+                                          "accuracy / oracle's", "completeness / oracle's"));
+  EXPECT_THAT(against.rows,
+              ElementsAre(ElementsAre("walking_xyz", "none", "1.00×", "18.33×", "2.00×", "0.94×"),
+                          ElementsAre("walking_xyz", "hoidplus", "0.10×", "1.83×", "1.20×", "0.98×"),
+                          ElementsAre("walking_xyz", "oracle", "0.05×", "1.00×", "1.00×", "1.00×"),
+                          ElementsAre("fr3_walking", "none", "–", "–", "–", "–"),
+                          ElementsAre("fr3_walking", "hoidplus", "–", "–", "–", "–")));
+
+  // What the map cost, on every sequence.
+  const report::Table& time = Find(tables, "dense_time");
+  EXPECT_THAT(time.rows, ElementsAre(ElementsAre("walking_xyz", "20.0 / 2.0", "22.0 / 2.2", "21.0 / 2.1"),
+                                     ElementsAre("fr3_walking", "15.0 / 1.6", "15.0 / 1.6 (2/3)", "–"),
+                                     ElementsAre("median of the sequences", "17.5 / 1.8", "18.5 / 1.9", "–")));
+  EXPECT_THAT(Find(tables, "dense_size").rows[1], ElementsAre("fr3_walking", "11.0 / 48.0", "11.0 / 48.0 (2/3)", "–"));
+
+  // Dense maps of real recordings only: what they cost, nothing scored.
+  const Plan real = MakePlan(options, {TumSequence("fr3_walking")}, "/bin/hoidslam", "/b");
+  const std::vector<NamedTable> real_tables = BuildTables(real, std::vector<RunResult>(real.runs.size(), Dense(15, 1.5)));
+  EXPECT_NE(FindTable(real_tables, "dense_time"), nullptr);
+  EXPECT_NE(FindTable(real_tables, "dense_size"), nullptr);
+  for (const char* name : {"dense_ghost_area", "dense_accuracy", "dense_completeness", "dense_against",
+                           "dense_ghost_cells"}) {
+    EXPECT_EQ(FindTable(real_tables, name), nullptr) << name;
+  }
 }
 
 }  // namespace
