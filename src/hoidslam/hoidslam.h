@@ -160,7 +160,7 @@ struct Options {
   // A live viewer of the session in a browser (docs/viewer.md), served while the System lives: the map, the current
   // frame with its keypoints kept and dropped, the boxes and their verdicts. nullopt: none (no thread, no copies).
   std::optional<View> view;
-  // Keyframes kept (their images, compressed, about 1 MB each) and fused densely when the session is saved.
+  // Keyframes kept (their images, compressed, about 0.3 MB each) and fused densely when the session is saved.
   // nullopt: none.
   std::optional<Dense> dense;
 };

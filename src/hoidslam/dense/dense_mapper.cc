@@ -91,7 +91,11 @@ DenseMapper::Prepared DenseMapper::Prepare(const Pending& pending) const {
     cv::remap(depth, depth, undistort_x_, undistort_y_, cv::INTER_NEAREST, cv::BORDER_CONSTANT, 0.0);
     cv::remap(bgr, bgr, undistort_x_, undistort_y_, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
   }
-  depth.convertTo(prepared.depth, CV_16U, kDepthUnitsPerMetre);
+  cv::Mat units;
+  depth.convertTo(units, CV_16U, kDepthUnitsPerMetre);
+  // Lossless and fast at level 1: on the 3,600-frame loop the keyframes held took 207 MB raw, and the build's peak
+  // memory is the volume's plus theirs.
+  cv::imencode(".png", units, prepared.png, {cv::IMWRITE_PNG_COMPRESSION, 1});
   cv::imencode(".jpg", bgr, prepared.jpeg, {cv::IMWRITE_JPEG_QUALITY, kJpegQuality});
   return prepared;
 }
@@ -115,11 +119,10 @@ DenseSummary DenseMapper::Build(const core::Trajectory& keyframes, const std::fi
 }
 
 DenseSummary DenseMapper::Fuse(const core::Trajectory& keyframes, const std::filesystem::path& folder) const {
-
   const core::Stopwatch clock;
   DenseSummary summary;
   for (const auto& [stamp, prepared] : prepared_) {
-    summary.held_megabytes += static_cast<double>(prepared.depth.total() * prepared.depth.elemSize() +
+    summary.held_megabytes += static_cast<double>(prepared.png.size() +
                                                   prepared.jpeg.size()) / (1024.0 * 1024.0);
   }
   TsdfVolume volume(options_, camera_);
@@ -133,7 +136,7 @@ DenseSummary DenseMapper::Fuse(const core::Trajectory& keyframes, const std::fil
     }
     const Prepared& prepared = found->second;
     cv::Mat depth;
-    prepared.depth.convertTo(depth, CV_32F, 1.0 / kDepthUnitsPerMetre);
+    cv::imdecode(prepared.png, cv::IMREAD_UNCHANGED).convertTo(depth, CV_32F, 1.0 / kDepthUnitsPerMetre);
     const cv::Mat bgr = cv::imdecode(prepared.jpeg, cv::IMREAD_COLOR);
     const core::Stopwatch fuse;
     volume.Integrate(bgr, depth, keyframe.T_wc);

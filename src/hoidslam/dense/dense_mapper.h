@@ -49,9 +49,9 @@ class DenseMapper {
   const DenseOptions& options() const { return options_; }
 
  private:
-  // A keyframe as kept until the build: the depth in half-millimetres (0 = not fused), the colour as JPEG.
+  // A keyframe as kept until the build: the depth in half-millimetres (0 = not fused) as a PNG, the colour as JPEG.
   struct Prepared {
-    cv::Mat depth;
+    std::vector<unsigned char> png;
     std::vector<unsigned char> jpeg;
   };
   struct Pending {
