@@ -134,16 +134,6 @@ std::vector<std::uint8_t> SeenSamples(const SurfaceSamples& samples, const Dense
   return seen;
 }
 
-// Packs a cell index into one key (21 bits an axis, offset so that negative indices fit).
-std::uint64_t CellKey(const Eigen::Vector3d& point, double size) {
-  std::uint64_t key = 0;
-  for (int k = 0; k < 3; ++k) {
-    const auto index = static_cast<std::int64_t>(std::floor(point[k] / size)) + (1 << 20);
-    key = (key << 21) | (static_cast<std::uint64_t>(index) & ((1U << 21) - 1));
-  }
-  return key;
-}
-
 }  // namespace
 
 bool DenseTruth::Exists(const std::filesystem::path& sequence) {
@@ -220,12 +210,14 @@ DenseScore ScoreDenseMap(const io::TriangleMesh& reconstruction, const std::vect
   if (occupied != nullptr) {
     std::unordered_set<std::uint64_t> moving;
     for (const Eigen::Vector3f& c : truth.moving_volume.centres) {
-      moving.insert(CellKey(c.cast<double>(), truth.moving_volume.voxel_size));
+      moving.insert(io::CellKeyOf(c.cast<double>(), truth.moving_volume.voxel_size));
     }
     std::vector<Eigen::Vector3f> in_moving_volume;
     for (const Eigen::Vector3d& cell : *occupied) {
       const Eigen::Vector3d p = alignment.Apply(cell);
-      if (moving.contains(CellKey(p, truth.moving_volume.voxel_size))) in_moving_volume.push_back(p.cast<float>());
+      if (moving.contains(io::CellKeyOf(p, truth.moving_volume.voxel_size))) {
+        in_moving_volume.push_back(p.cast<float>());
+      }
     }
     const std::vector<float> to_static = static_surface.Distances(in_moving_volume);
     score.occupied_cells = occupied->size();

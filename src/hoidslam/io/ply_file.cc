@@ -532,4 +532,19 @@ VoxelCentres ReadVoxelCentresPly(const fs::path& path) {
   return {*size, ReadGeometry(path, text, header).vertices};
 }
 
+std::uint64_t PackCell(std::int64_t i, std::int64_t j, std::int64_t k) {
+  return static_cast<std::uint64_t>(i + kCellReach) << (2 * kCellBits) |
+         static_cast<std::uint64_t>(j + kCellReach) << kCellBits | static_cast<std::uint64_t>(k + kCellReach);
+}
+
+std::int64_t UnpackCell(std::uint64_t key, int axis) {
+  constexpr std::uint64_t kMask = (std::uint64_t{1} << kCellBits) - 1;
+  return static_cast<std::int64_t>((key >> ((2 - axis) * kCellBits)) & kMask) - kCellReach;
+}
+
+std::uint64_t CellKeyOf(const Eigen::Vector3d& point, double size) {
+  const auto index = [&](int axis) { return static_cast<std::int64_t>(std::floor(point[axis] / size)); };
+  return PackCell(index(0), index(1), index(2));
+}
+
 }  // namespace hoidslam::io

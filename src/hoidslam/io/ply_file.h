@@ -3,6 +3,7 @@
 // triangle meshes and voxel centres (the static geometry and the moving volume of a synthetic sequence). Every
 // file is written binary little-endian with float coordinates, atomically (complete or absent).
 
+#include <cstdint>
 #include <filesystem>
 #include <span>
 #include <string_view>
@@ -46,6 +47,15 @@ struct VoxelCentres {
   double voxel_size = 0.0;  // edge of a cell, metres
   std::vector<Eigen::Vector3f> centres;
 };
+
+// A grid cell's index (i, j, k) packed into one key, 21 bits an axis, offset by kCellReach so that indices in
+// [-kCellReach, kCellReach) fit and keys sort in (i, j, k) order: the sets of cells synth writes and eval reads.
+inline constexpr int kCellBits = 21;
+inline constexpr std::int64_t kCellReach = std::int64_t{1} << (kCellBits - 1);
+std::uint64_t PackCell(std::int64_t i, std::int64_t j, std::int64_t k);
+std::int64_t UnpackCell(std::uint64_t key, int axis);  // axis 0, 1 or 2
+// The key of the cell of edge `size` that holds `point`.
+std::uint64_t CellKeyOf(const Eigen::Vector3d& point, double size);
 
 // Writes float x y z per centre with the header line "comment voxel_size <size>" (the shortest decimal that
 // reads back as the same double).

@@ -251,5 +251,14 @@ TEST(VoxelCentresPly, NamesTheFileWithoutOneGoodVoxelSize) {
               HasSubstr("faces.ply: a face element: voxel centres are vertices only"));
 }
 
+TEST(CellKeys, PackTheCellHoldingAPointAndUnpackItsIndices) {
+  const std::uint64_t key = CellKeyOf(Eigen::Vector3d(-0.01, 0.05, 1.0), 0.02);
+  EXPECT_EQ(key, PackCell(-1, 2, 50));
+  EXPECT_EQ(UnpackCell(key, 0), -1);
+  EXPECT_EQ(UnpackCell(key, 1), 2);
+  EXPECT_EQ(UnpackCell(key, 2), 50);
+  EXPECT_LT(PackCell(-1, 5, 5), PackCell(0, -5, -5)) << "keys sort in (i, j, k) order";
+}
+
 }  // namespace
 }  // namespace hoidslam::io

@@ -23,21 +23,6 @@ constexpr std::array<std::array<int, 3>, 12> kBoxTriangles = {{
     {4, 5, 7}, {4, 7, 6},  // +z
 }};
 
-// Cell coordinates are packed into one integer, 21 bits each, offset by kReach so that they are >= 0 and the
-// packed order is the (i, j, k) order.
-constexpr int kBits = 21;
-constexpr std::int64_t kReach = std::int64_t{1} << (kBits - 1);
-constexpr std::uint64_t kMask = (std::uint64_t{1} << kBits) - 1;
-
-std::uint64_t Pack(std::int64_t i, std::int64_t j, std::int64_t k) {
-  return static_cast<std::uint64_t>(i + kReach) << (2 * kBits) | static_cast<std::uint64_t>(j + kReach) << kBits |
-         static_cast<std::uint64_t>(k + kReach);
-}
-
-std::int64_t Unpack(std::uint64_t key, int axis) {
-  return static_cast<std::int64_t>((key >> ((2 - axis) * kBits)) & kMask) - kReach;
-}
-
 bool SameParts(const std::vector<Box>& a, const std::vector<Box>& b) {
   return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](const Box& x, const Box& y) {
     return x.T_wb.matrix() == y.T_wb.matrix() && x.half_size == y.half_size;
@@ -62,11 +47,12 @@ void VoxelCells::AddBox(const Box& box) {
   const Eigen::Vector3d high = ((centre + reach) / size_).array() - 0.5;
   std::array<std::int64_t, 3> first{}, last{};
   for (int axis = 0; axis < 3; ++axis) {
-    constexpr double kLimit = static_cast<double>(kReach - 1);
+    constexpr double kLimit = static_cast<double>(io::kCellReach - 1);
     if (!(std::abs(low[axis]) < kLimit && std::abs(high[axis]) < kLimit)) {  // also NaN
       throw core::InputError(fmt::format("a box at ({:.3f}, {:.3f}, {:.3f}) m lies beyond the {:.0f} m from the "
                                          "origin that the moving volume's grid covers",
-                                         centre.x(), centre.y(), centre.z(), static_cast<double>(kReach) * size_));
+                                         centre.x(), centre.y(), centre.z(),
+                                         static_cast<double>(io::kCellReach) * size_));
     }
     first[axis] = static_cast<std::int64_t>(std::ceil(low[axis]));
     last[axis] = static_cast<std::int64_t>(std::floor(high[axis]));
@@ -79,7 +65,7 @@ void VoxelCells::AddBox(const Box& box) {
                                                   static_cast<double>(first[2]) + 0.5) * size_ - centre);
       for (std::int64_t k = first[2]; k <= last[2]; ++k, p += step) {
         if (std::abs(p.x()) <= half.x() && std::abs(p.y()) <= half.y() && std::abs(p.z()) <= half.z()) {
-          cells_.insert(Pack(i, j, k));
+          cells_.insert(io::PackCell(i, j, k));
         }
       }
     }
@@ -93,7 +79,7 @@ io::VoxelCentres VoxelCells::Centres() const {
   voxels.centres.reserve(keys.size());
   for (const std::uint64_t key : keys) {
     Eigen::Vector3d centre;
-    for (int axis = 0; axis < 3; ++axis) centre[axis] = (static_cast<double>(Unpack(key, axis)) + 0.5) * size_;
+    for (int axis = 0; axis < 3; ++axis) centre[axis] = (static_cast<double>(io::UnpackCell(key, axis)) + 0.5) * size_;
     voxels.centres.push_back(centre.cast<float>());
   }
   return voxels;
