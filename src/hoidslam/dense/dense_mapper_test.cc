@@ -4,12 +4,11 @@
 
 #include <filesystem>
 
-#include <open3d/geometry/PointCloud.h>
-#include <open3d/io/PointCloudIO.h>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 
 #include "hoidslam/core/error.h"
+#include "hoidslam/dense/test_views.h"
 #include "support/temp_dir.h"
 
 namespace hoidslam::dense {
@@ -18,14 +17,7 @@ namespace {
 // An 80×60 camera in front of a wall 1.5 m away (its depth constant along the optical axis), a "person" 0.8 m away
 // in the middle of the image, marked as left out.
 struct WallScene {
-  core::CameraIntrinsics camera;
-  WallScene() {
-    camera.fx = camera.fy = 70.0;
-    camera.cx = 40.0;
-    camera.cy = 30.0;
-    camera.width = 80;
-    camera.height = 60;
-  }
+  core::CameraIntrinsics camera = test_views::SmallCamera();
   core::RgbdFrame Frame(double timestamp) const {
     core::RgbdFrame frame;
     frame.timestamp = timestamp;
@@ -42,18 +34,8 @@ struct WallScene {
   }
 };
 
-DenseOptions CoarseOptions() {
-  DenseOptions options;
-  options.voxel_size = 0.02;
-  options.truncation = 0.08;
-  return options;
-}
-
-open3d::geometry::PointCloud ReadCloud(const std::filesystem::path& path) {
-  open3d::geometry::PointCloud cloud;
-  EXPECT_TRUE(open3d::io::ReadPointCloud(path.string(), cloud));
-  return cloud;
-}
+using test_views::CoarseOptions;
+using test_views::ReadCloud;
 
 TEST(DenseMapper, FusesTheFinalKeyFramesAtTheirFinalPosesWithoutWhatWasLeftOut) {
   const WallScene scene;

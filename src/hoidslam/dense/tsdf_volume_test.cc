@@ -4,33 +4,18 @@
 
 #include <cmath>
 
-#include <open3d/geometry/PointCloud.h>
-#include <open3d/io/PointCloudIO.h>
 #include <opencv2/core.hpp>
 
+#include "hoidslam/dense/test_views.h"
 #include "support/input_error.h"
 #include "support/temp_dir.h"
 
 namespace hoidslam::dense {
 namespace {
 
-// The cloud a file holds, read by Open3D as a user would.
-open3d::geometry::PointCloud ReadCloud(const std::filesystem::path& path) {
-  open3d::geometry::PointCloud cloud;
-  EXPECT_TRUE(open3d::io::ReadPointCloud(path.string(), cloud));
-  return cloud;
-}
-
-// A small camera (80×60), so that the tests stay quick.
-core::CameraIntrinsics SmallCamera() {
-  core::CameraIntrinsics camera;
-  camera.fx = camera.fy = 70.0;
-  camera.cx = 40.0;
-  camera.cy = 30.0;
-  camera.width = 80;
-  camera.height = 60;
-  return camera;
-}
+using test_views::CoarseOptions;
+using test_views::ReadCloud;
+using test_views::SmallCamera;
 
 // What a camera at T_wc sees of the plane z = `wall` (world): depth per pixel, 0 where the ray misses it.
 cv::Mat WallDepth(const core::CameraIntrinsics& camera, const core::Pose& T_wc, double wall) {
@@ -55,10 +40,7 @@ core::Pose CameraAt(double x, double yaw_degrees) {
 
 TEST(TsdfVolume, AWallSeenFromTwoPlacesBecomesAFlatColouredMeshWhereTheWallIs) {
   const core::CameraIntrinsics camera = SmallCamera();
-  DenseOptions options;
-  options.voxel_size = 0.02;
-  options.truncation = 0.08;
-  TsdfVolume volume(options, camera);
+  TsdfVolume volume(CoarseOptions(), camera);
   const cv::Mat red(camera.height, camera.width, CV_8UC3, cv::Scalar(0, 0, 255));  // BGR
   for (const core::Pose& T_wc : {CameraAt(0.0, 0.0), CameraAt(0.3, -10.0)}) {
     volume.Integrate(red, WallDepth(camera, T_wc, 1.5), T_wc);
@@ -89,10 +71,7 @@ TEST(TsdfVolume, AWallSeenFromTwoPlacesBecomesAFlatColouredMeshWhereTheWallIs) {
 
 TEST(TsdfVolume, DepthLeftOutIsNotFused) {
   const core::CameraIntrinsics camera = SmallCamera();
-  DenseOptions options;
-  options.voxel_size = 0.02;
-  options.truncation = 0.08;
-  TsdfVolume volume(options, camera);
+  TsdfVolume volume(CoarseOptions(), camera);
   const cv::Mat grey(camera.height, camera.width, CV_8UC3, cv::Scalar(128, 128, 128));
   cv::Mat depth = WallDepth(camera, core::Pose::Identity(), 1.5);
   depth.colRange(40, 80).setTo(0.0F);  // the right half left out
