@@ -107,15 +107,18 @@ void SetCamera(const std::vector<double>& values, const cv::Size& image, io::Set
 }
 
 // The dense map against a synthetic sequence's exact geometry (eval/dense_score.h), in the ground truth's frame by
-// the trajectory's alignment: the scores, or nullopt when the sequence carries no geometry.
+// the keyframes' poses: the scores, or nullopt when the sequence carries no geometry.
 std::optional<eval::DenseScore> ScoreDenseMap(const io::RgbdSequence& sequence, const fs::path& run,
                                               const eval::Evaluation& evaluation, const core::CameraIntrinsics& camera,
                                               const eval::DenseScoreOptions& options) {
   if (!eval::DenseTruth::Exists(sequence.root())) return std::nullopt;
   const eval::DenseTruth truth = eval::DenseTruth::Load(sequence, camera, options.view_step);
   const dense::OccupiedCells cells = dense::ReadOccupiedCells(run / "occupancy.bt");
-  return eval::ScoreDenseMap(io::ReadPlyMesh(run / "mesh.ply"), &cells.centres, cells.resolution,
-                             evaluation.ate.alignment, truth, options);
+  const eval::Alignment alignment =
+      eval::DenseScoreAlignment(sequence.groundtruth(), io::ReadTumTrajectory(run / "keyframes.txt"),
+                                evaluation.options.ate.association, options);
+  return eval::ScoreDenseMap(io::ReadPlyMesh(run / "mesh.ply"), &cells.centres, cells.resolution, alignment, truth,
+                             options);
 }
 
 void RunRun(const RunArgs& args) {

@@ -42,4 +42,13 @@ inline constexpr std::size_t kMinAteMatches = 3;
 // sequences, or need an --offset).
 AteResult ComputeAte(const core::Trajectory& groundtruth, const core::Trajectory& estimate, const AteOptions& options);
 
+// The rigid transform that best takes the estimated camera poses — centres and orientations — onto the ground
+// truth's: each matched pose stands for its centre and the three points `lever` metres along its axes, aligned as
+// ComputeAte aligns centres. ComputeAte's alignment knows orientation only through the positions' spread, and a
+// short or straight path leaves it a few tenths of a degree free: nothing for the ATE, centimetres at the far wall of
+// a map drawn in that frame. Pick `lever` at the depth the map's surfaces are seen from. Throws InputError as
+// ComputeAte does.
+Alignment AlignPoses(const core::Trajectory& groundtruth, const core::Trajectory& estimate,
+                     const AssociationOptions& association, double lever);
+
 }  // namespace hoidslam::eval

@@ -98,5 +98,36 @@ TEST(ComputeAteTest, TooFewMatchesSaysSo) {
   EXPECT_EQ(ComputeAte(gt, three, {}).error.count, 3U);
 }
 
+double AngleDegrees(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
+  return Eigen::AngleAxisd(a.transpose() * b).angle() * 180.0 / std::numbers::pi;
+}
+
+TEST(AlignPosesTest, FindsTheTurnAboutAStraightPathThatPositionsLeaveOpen) {
+  // A camera walks 1 m along x, swaying 1 cm sideways, looking along z. The estimate is the same poses in a world
+  // turned 0.3° about x (the path's own axis) and shifted, its positions 0.5 mm off upwards where the camera swayed
+  // left and downwards where it swayed right — an error no tracker would be blamed for.
+  core::Trajectory gt;
+  for (int k = 0; k < 100; ++k) {
+    const Eigen::Vector3d p(0.01 * k, 0.01 * std::sin(0.2 * k), 0.0);
+    gt.push_back({0.033 * k, core::PoseFromTranslationQuaternion(
+                                 p, Eigen::Quaterniond(Eigen::AngleAxisd(0.01 * k, Eigen::Vector3d::UnitY())))});
+  }
+  core::Pose T = core::Pose::Identity();
+  T.linear() = Eigen::AngleAxisd(0.3 * std::numbers::pi / 180.0, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  T.translation() = Eigen::Vector3d(0.5, -0.2, 1.0);
+  core::Trajectory est = test_data::Transformed(gt, T);
+  for (std::size_t k = 0; k < est.size(); ++k) {
+    const double sway = gt[k].T_wc.translation().y();
+    est[k].T_wc.translation() += T.linear() * Eigen::Vector3d(0.0, 0.0, sway > 0.0 ? 0.0005 : -0.0005);
+  }
+
+  const Alignment by_positions = ComputeAte(gt, est, {}).alignment;
+  const Alignment by_poses = AlignPoses(gt, est, {}, 2.0);
+  EXPECT_GT(AngleDegrees(by_positions.rotation, T.inverse().linear()), 1.0);
+  EXPECT_LT(AngleDegrees(by_poses.rotation, T.inverse().linear()), 0.01);
+  EXPECT_LT((by_poses.translation - T.inverse().translation()).norm(), 0.002);
+  EXPECT_THROW(AlignPoses(gt, est, {}, 0.0), core::InputError);
+}
+
 }  // namespace
 }  // namespace hoidslam::eval

@@ -10,6 +10,7 @@
 #include <open3d/t/geometry/RaycastingScene.h>
 
 #include "hoidslam/core/error.h"
+#include "hoidslam/eval/ate.h"
 
 namespace hoidslam::eval {
 
@@ -227,6 +228,11 @@ DenseScore ScoreDenseMap(const io::TriangleMesh& reconstruction, const std::vect
   return score;
 }
 
+Alignment DenseScoreAlignment(const core::Trajectory& groundtruth, const core::Trajectory& keyframes,
+                              const AssociationOptions& association, const DenseScoreOptions& options) {
+  return AlignPoses(groundtruth, keyframes, association, options.AlignmentLever());
+}
+
 nlohmann::json DenseScoreJson(const DenseScore& score, const DenseScoreOptions& options) {
   nlohmann::json json = {
       {"accuracy_m", {{"mean", score.accuracy_mean}, {"median", score.accuracy_median}, {"p90", score.accuracy_p90}}},
@@ -241,7 +247,9 @@ nlohmann::json DenseScoreJson(const DenseScore& score, const DenseScoreOptions& 
        {{"completeness_distance", options.completeness_distance},
         {"ghost_distance", options.ghost_distance},
         {"surface_spacing", options.surface_spacing},
-        {"view_step", options.view_step}}},
+        {"view_step", options.view_step},
+        {"aligned_by", "keyframe poses"},
+        {"alignment_lever_m", options.AlignmentLever()}}},
   };
   if (score.occupied_cells) json["occupied_cells"] = *score.occupied_cells;
   if (score.ghost_cells) json["ghost_cells"] = *score.ghost_cells;
