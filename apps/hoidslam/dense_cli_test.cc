@@ -64,6 +64,23 @@ TEST(CliDense, ARunWritesTheStaticWorldAsAMeshACloudAndOccupancyMaps) {
   EXPECT_GT(cv::countNonZero(grid == 254), 20) << "free cells between the camera and them";
 }
 
+TEST(CliDense, ModeNoneIsCheckedForPeopleInTheBoxesOfTheSequencesDetections) {
+  // Mode none judges no boxes, yet the sequence's detections.jsonl gives its keyframes theirs for the check, and the
+  // people it fused are found there (the people come in at frame 98). How the filter's maps fare: DenseMapper's
+  // tests and bench --dense.
+  const testing::TempDir scratch;
+  const fs::path sequence = Render(scratch, "walking_xyz", {36, 4});
+  const fs::path run = scratch / "run";
+  const RunResult ran =
+      RunHoidslam(scratch, {"run", sequence.string(), "--dense", "--filter", "none", "--out", run.string()});
+  ASSERT_EQ(ran.exit_status, 0) << ran.err;
+  EXPECT_THAT(ran.out, HasSubstr("people kept: "));
+  const nlohmann::json people = Summary(run).at("dense").at("people");
+  ASSERT_TRUE(people.is_object());
+  EXPECT_GT(people.at("boxes").get<std::size_t>(), 0U);
+  EXPECT_GT(people.at("share").get<double>(), 0.3);
+}
+
 TEST(CliDense, BadOptionsAreRefusedBeforeTheRun) {
   const testing::TempDir scratch;
   const fs::path sequence = Render(scratch, "walking_xyz", {3, 1});

@@ -49,7 +49,7 @@ void AddDetectorOptions(CLI::App& command, DetectorArgs& args) {
 namespace {
 
 detect::DetectorOptions ChooseDetector(const DetectorArgs& args, const SequenceArgs& sequence,
-                                       const pipeline::ExclusionOptions& exclusion) {
+                                       const pipeline::ExclusionOptions& exclusion, bool boxes_wanted) {
   detect::DetectorOptions options;
   options.onnx = args.onnx.ToOptions();
   fs::path detections = args.detections;
@@ -62,7 +62,7 @@ detect::DetectorOptions ChooseDetector(const DetectorArgs& args, const SequenceA
     options.kind = detect::ParseDetectorKind(args.kind, "--detector");
   } else if (!args.onnx.model.empty()) {
     options.kind = detect::DetectorKind::kOnnx;
-  } else if (!detections.empty() && exclusion.NeedsDetections()) {
+  } else if (!detections.empty() && (exclusion.NeedsDetections() || boxes_wanted)) {
     options.kind = detect::DetectorKind::kFile;
   }
   if (options.kind == detect::DetectorKind::kFile && detections.empty()) {
@@ -91,8 +91,9 @@ void CheckDetectionsFile(const detect::FileDetector& detector, const io::RgbdSeq
 
 std::unique_ptr<detect::Detector> OpenDetector(const DetectorArgs& args, const SequenceArgs& sequence_args,
                                                const pipeline::ExclusionOptions& exclusion,
-                                               const io::RgbdSequence& sequence) {
-  std::unique_ptr<detect::Detector> detector = detect::MakeDetector(ChooseDetector(args, sequence_args, exclusion));
+                                               const io::RgbdSequence& sequence, bool boxes_wanted) {
+  std::unique_ptr<detect::Detector> detector =
+      detect::MakeDetector(ChooseDetector(args, sequence_args, exclusion, boxes_wanted));
   if (const auto* file = dynamic_cast<const detect::FileDetector*>(detector.get())) CheckDetectionsFile(*file, sequence);
   return detector;
 }

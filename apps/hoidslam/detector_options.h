@@ -41,12 +41,13 @@ struct DetectorArgs {
 void AddDetectorOptions(CLI::App& command, DetectorArgs& args);
 
 // The detector the options ask for, ready for `sequence`. Without --detector: onnx when a model is given, the
-// detections file when one is given or the dataset has detections.jsonl (and the filter needs boxes), else none.
+// detections file when one is given or the dataset has detections.jsonl (and the filter needs boxes, or
+// `boxes_wanted`: the dense map's person check asks for them in any mode), else none.
 // Throws InputError naming the parameter when a filter that needs boxes gets no detector, or --detector file no
 // file, and naming the file when a detections file is meant for another sequence (one that lacks a few frames is
 // only reported: those frames reuse the previous frame's detections).
 std::unique_ptr<detect::Detector> OpenDetector(const DetectorArgs& args, const SequenceArgs& sequence_args,
                                                const pipeline::ExclusionOptions& exclusion,
-                                               const io::RgbdSequence& sequence);
+                                               const io::RgbdSequence& sequence, bool boxes_wanted = false);
 
 }  // namespace hoidslam::apps

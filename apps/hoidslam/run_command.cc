@@ -162,7 +162,7 @@ void RunRun(const RunArgs& args) {
   if (!options.save_map.empty()) io::CheckWritableFile(options.save_map, "--save-map");
 
   const std::unique_ptr<detect::Detector> detector =
-      OpenDetector(args.detector, args.sequence, options.exclusion, sequence);
+      OpenDetector(args.detector, args.sequence, options.exclusion, sequence, args.dense);
   // The wrong camera's settings and depth in the wrong unit, said before the run (tracking checks the depth of the
   // first frame that has enough of it).
   pipeline::CheckImageSize(first, options);
@@ -207,7 +207,7 @@ void RunRun(const RunArgs& args) {
     };
     hooks.frame_tracked = [&](std::size_t index, const core::RgbdFrame& frame, const pipeline::FrameOutcome& outcome) {
       if (view) view->Publish(viewer::SnapshotOf(index, frame, outcome));
-      if (dense_mapper) dense_mapper->TakeKeyFrame(*session, frame, outcome);
+      if (dense_mapper) dense_mapper->TakeKeyFrame(*session, frame, outcome, detector.get());
     };
     hooks.finished = [&](const pipeline::Session& finished) {
       if (view) view->FinalMapOf(finished);

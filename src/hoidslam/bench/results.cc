@@ -92,6 +92,7 @@ RunResult ReadRunResult(const Plan& plan, const RunSpec& spec) {
     result.dense_fuse_ms = Optional(s, Pointer("/dense/median_fuse_ms"));
     result.dense_build_seconds = Optional(s, Pointer("/dense/build_seconds"));
     result.dense_volume_mb = Optional(s, Pointer("/dense/volume_mb"));
+    result.dense_people_kept = Optional(s, Pointer("/dense/people/share"));
     result.dense_accuracy_median = Optional(s, Pointer("/evaluation/dense/accuracy_m/median"));
     result.dense_accuracy_p90 = Optional(s, Pointer("/evaluation/dense/accuracy_m/p90"));
     result.dense_completeness = Optional(s, Pointer("/evaluation/dense/completeness"));
@@ -186,6 +187,7 @@ nlohmann::json RunResultToJson(const RunResult& r) {
                      {"median_fuse_ms", optional(r.dense_fuse_ms)},
                      {"build_seconds", optional(r.dense_build_seconds)},
                      {"volume_mb", optional(r.dense_volume_mb)},
+                     {"people_kept", optional(r.dense_people_kept)},
                      {"accuracy_median_m", optional(r.dense_accuracy_median)},
                      {"accuracy_p90_m", optional(r.dense_accuracy_p90)},
                      {"completeness", optional(r.dense_completeness)},

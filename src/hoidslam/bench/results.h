@@ -47,6 +47,9 @@ struct RunResult {
   // The dense map of a run with --dense: its mesh's surface (m²), the median time to fuse a keyframe (ms), the time
   // to build it after the run (s) and its volume's memory (MB); absent without --dense.
   std::optional<double> dense_area, dense_fuse_ms, dense_build_seconds, dense_volume_mb;
+  // The people the dense map kept, judged without ground truth (eval/person_surface.h): the share of the person
+  // pixels of the keyframes' person boxes where the map has surface; absent when no keyframe had a person box.
+  std::optional<double> dense_people_kept;
   // The dense map against the sequence's exact geometry (eval/dense_score.h): its vertices' distance to the static
   // surface (m), the share of the static surface in view it mapped, its surface farther from every static one (m²)
   // and that surface's share, the occupancy map's occupied cells and of them those only people and moved objects

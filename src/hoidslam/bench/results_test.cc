@@ -90,7 +90,8 @@ TEST(ReadRunResult, ReadsTheDenseMapAndItsScoreAgainstTheGeometry) {
   const std::string dense = R"(,
     "dense": {"written": true, "keyframes": 12, "mesh": {"vertices": 5000, "triangles": 9000, "area_m2": 14.5},
               "cloud_points": 4000, "occupied_cells": 2100, "volume_mb": 48.2, "held_mb": 60.1,
-              "median_fuse_ms": 23.5, "build_seconds": 1.75, "options": {"voxel_size": 0.02}})";
+              "median_fuse_ms": 23.5, "build_seconds": 1.75, "options": {"voxel_size": 0.02},
+              "people": {"share": 0.031, "boxes": 20, "person_pixels": 90000, "fused_pixels": 2790}})";
   testing::WriteText(summary, std::string(kSummaryStart) + dense + R"(,
     "evaluation": {"ate": {"error_m": {"rmse": 0.01, "mean": 0.009, "median": 0.008}},
                    "dense": {"accuracy_m": {"mean": 0.006, "median": 0.004, "p90": 0.012}, "completeness": 0.87,
@@ -101,6 +102,7 @@ TEST(ReadRunResult, ReadsTheDenseMapAndItsScoreAgainstTheGeometry) {
   EXPECT_EQ(result.dense_fuse_ms, 23.5);
   EXPECT_EQ(result.dense_build_seconds, 1.75);
   EXPECT_EQ(result.dense_volume_mb, 48.2);
+  EXPECT_EQ(result.dense_people_kept, 0.031);
   EXPECT_EQ(result.dense_accuracy_median, 0.004);
   EXPECT_EQ(result.dense_accuracy_p90, 0.012);
   EXPECT_EQ(result.dense_completeness, 0.87);
@@ -111,6 +113,7 @@ TEST(ReadRunResult, ReadsTheDenseMapAndItsScoreAgainstTheGeometry) {
   nlohmann::json json = RunResultToJson(result);
   EXPECT_EQ(json["dense"]["area_m2"], 14.5);
   EXPECT_EQ(json["dense"]["ghost_cells"], 15.0);
+  EXPECT_EQ(json["dense"]["people_kept"], 0.031);
 
   // A sequence without its exact geometry (a real recording): the dense map, no score.
   testing::WriteText(summary, std::string(kSummaryStart) + dense + "}");

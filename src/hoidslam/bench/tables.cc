@@ -499,6 +499,18 @@ void AddDenseTables(const Plan& plan, const Grid& grid, const std::vector<RunRes
                              "were, of the occupied cells",
                              {{ghost_cells, Count}, {occupied_cells, Count}}, " of ")});
   }
+  const Value people_kept = [](const RunResult& r) { return r.dense_people_kept; };
+  if (AnyRunHas(results, people_kept)) {
+    report::Table table = PerMode(plan, grid,
+                                  "Dense map: people kept (%), of the person pixels in the keyframes' person boxes "
+                                  "those where the map has surface at the depth measured",
+                                  {{people_kept, Percent}}, "");
+    table.note = RunsNote(plan, plan.options.runs) +
+                 " Judged without ground truth, on real recordings too: a map with the people left out has surface "
+                 "there only where something static stands at the person's depth; – when no keyframe had a person "
+                 "box (mode none without the sequence's own detections.jsonl runs no detector).";
+    tables.push_back({"dense_people", std::move(table)});
+  }
   if (AnyRunHas(results, kDenseArea)) {
     tables.push_back({"dense_time", PerMode(plan, grid, "Dense map: fusion (ms a keyframe) and final build (s)",
                                             {{fuse_ms, OneDecimal}, {build_seconds, OneDecimal}}, " / ")});

@@ -362,6 +362,7 @@ RunResult Dense(double fuse_ms, double build_seconds, std::optional<double> ghos
   r.dense_volume_mb = 48.0;
   r.dense_fuse_ms = fuse_ms;
   r.dense_build_seconds = build_seconds;
+  r.dense_people_kept = 0.01 * build_seconds;
   if (!ghost_area) return r;
   r.dense_ghost_area = *ghost_area;
   r.dense_ghost_share = *ghost_area / 11.0;
@@ -433,12 +434,15 @@ TEST(BuildTables, DenseTablesShowEachCellsMediansAndTheRatiosToNoneAndOracle) {
                                      ElementsAre("fr3_walking", "15.0 / 1.6", "15.0 / 1.6 (2/3)", "–"),
                                      ElementsAre("median of the sequences", "17.5 / 1.8", "18.5 / 1.9", "–")));
   EXPECT_THAT(Find(tables, "dense_size").rows[1], ElementsAre("fr3_walking", "11.0 / 48.0", "11.0 / 48.0 (2/3)", "–"));
+  // The people kept, judged in the person boxes: on the real recording too.
+  EXPECT_THAT(Find(tables, "dense_people").rows[1], ElementsAre("fr3_walking", "1.6 %", "1.6 % (2/3)", "–"));
 
   // Dense maps of real recordings only: what they cost, nothing scored.
   const Plan real = MakePlan(options, {TumSequence("fr3_walking")}, "/bin/hoidslam", "/b");
   const std::vector<NamedTable> real_tables = BuildTables(real, std::vector<RunResult>(real.runs.size(), Dense(15, 1.5)));
   EXPECT_NE(FindTable(real_tables, "dense_time"), nullptr);
   EXPECT_NE(FindTable(real_tables, "dense_size"), nullptr);
+  EXPECT_NE(FindTable(real_tables, "dense_people"), nullptr);
   for (const char* name : {"dense_ghost_area", "dense_accuracy", "dense_completeness", "dense_against",
                            "dense_ghost_cells"}) {
     EXPECT_EQ(FindTable(real_tables, name), nullptr) << name;

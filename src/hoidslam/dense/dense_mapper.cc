@@ -14,6 +14,7 @@
 #include "hoidslam/dense/floor.h"
 #include "hoidslam/dense/fusible_depth.h"
 #include "hoidslam/dense/occupancy.h"
+#include "hoidslam/io/ply_file.h"
 
 namespace hoidslam::dense {
 
@@ -52,9 +53,14 @@ void DenseMapper::Stop() {
   if (thread_.joinable()) thread_.join();
 }
 
-void DenseMapper::AddKeyFrame(const core::RgbdFrame& frame, const cv::Mat& left_out) {
+void DenseMapper::AddKeyFrame(const core::RgbdFrame& frame, const cv::Mat& left_out,
+                              const std::vector<cv::Rect>& people) {
   // Copies: the caller's buffers (a program's own, through the API) may be reused once the frame is tracked.
-  Pending pending{frame.timestamp, frame.rgb.clone(), frame.depth.clone(), left_out.clone()};
+  Pending pending{frame.timestamp, frame.rgb.clone(), frame.depth.clone(), left_out.clone(), {}};
+  const cv::Rect image(0, 0, frame.depth.cols, frame.depth.rows);
+  for (const cv::Rect& box : people) {
+    if (const cv::Rect inside = box & image; !inside.empty()) pending.people.push_back(inside);
+  }
   {
     std::lock_guard lock(mutex_);
     if (stopping_) throw std::logic_error("DenseMapper::AddKeyFrame after Build");
@@ -64,8 +70,21 @@ void DenseMapper::AddKeyFrame(const core::RgbdFrame& frame, const cv::Mat& left_
 }
 
 void DenseMapper::TakeKeyFrame(const pipeline::Session& session, const core::RgbdFrame& frame,
-                               const pipeline::FrameOutcome& outcome) {
-  if (outcome.result.keyframe) AddKeyFrame(frame, session.StaticMapExclusion(frame));
+                               const pipeline::FrameOutcome& outcome, detect::Detector* detector) {
+  if (!outcome.result.keyframe) return;
+  // The session's own detector runs in its thread whenever the mode judges boxes: then only the session asks it.
+  const bool session_detects = session.options().exclusion.NeedsDetections() || session.options().exclusion.oracle;
+  std::vector<core::Detection> detected;
+  const std::vector<core::Detection>* boxes = &outcome.boxes.detections;
+  if (boxes->empty() && !session_detects && detector != nullptr) {
+    detected = detector->Detect(frame.timestamp, frame.rgb);
+    boxes = &detected;
+  }
+  std::vector<cv::Rect> people;
+  for (const core::Detection& detection : *boxes) {
+    if (detection.label == session.options().exclusion.hoid.person_class) people.push_back(detection.box);
+  }
+  AddKeyFrame(frame, session.StaticMapExclusion(frame), people);
 }
 
 void DenseMapper::Work() {
@@ -85,18 +104,30 @@ void DenseMapper::Work() {
 DenseMapper::Prepared DenseMapper::Prepare(const Pending& pending) const {
   Prepared prepared;
   cv::Mat depth = FusibleDepth(pending.depth, pending.left_out, options_);
+  cv::Mat measured = pending.depth;
   cv::Mat bgr = pending.bgr;
   if (!undistort_x_.empty()) {
     // Depth by its nearest pixel: interpolating across an edge would invent surfaces between foreground and back.
     cv::remap(depth, depth, undistort_x_, undistort_y_, cv::INTER_NEAREST, cv::BORDER_CONSTANT, 0.0);
     cv::remap(bgr, bgr, undistort_x_, undistort_y_, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+    if (!pending.people.empty()) {
+      cv::remap(measured, measured, undistort_x_, undistort_y_, cv::INTER_NEAREST, cv::BORDER_CONSTANT, 0.0);
+    }
   }
-  cv::Mat units;
-  depth.convertTo(units, CV_16U, kDepthUnitsPerMetre);
   // Lossless and fast at level 1: on the 3,600-frame loop the keyframes held took 207 MB raw, and the build's peak
   // memory is the volume's plus theirs.
-  cv::imencode(".png", units, prepared.png, {cv::IMWRITE_PNG_COMPRESSION, 1});
+  const auto encode_depth = [](const cv::Mat& metres, std::vector<unsigned char>& png) {
+    cv::Mat units;
+    metres.convertTo(units, CV_16U, kDepthUnitsPerMetre);
+    cv::imencode(".png", units, png, {cv::IMWRITE_PNG_COMPRESSION, 1});
+  };
+  encode_depth(depth, prepared.png);
   cv::imencode(".jpg", bgr, prepared.jpeg, {cv::IMWRITE_JPEG_QUALITY, kJpegQuality});
+  for (const cv::Rect& box : pending.people) {
+    PersonCrop crop{box, {}};
+    encode_depth(measured(box), crop.png);
+    prepared.people.push_back(std::move(crop));
+  }
   return prepared;
 }
 
@@ -122,8 +153,9 @@ DenseSummary DenseMapper::Fuse(const core::Trajectory& keyframes, const std::fil
   const core::Stopwatch clock;
   DenseSummary summary;
   for (const auto& [stamp, prepared] : prepared_) {
-    summary.held_megabytes += static_cast<double>(prepared.png.size() +
-                                                  prepared.jpeg.size()) / (1024.0 * 1024.0);
+    std::size_t bytes = prepared.png.size() + prepared.jpeg.size();
+    for (const PersonCrop& crop : prepared.people) bytes += crop.png.size();
+    summary.held_megabytes += static_cast<double>(bytes) / (1024.0 * 1024.0);
   }
   TsdfVolume volume(options_, camera_);
   OccupancyMap occupancy(options_.occupancy);
@@ -162,8 +194,26 @@ DenseSummary DenseMapper::Fuse(const core::Trajectory& keyframes, const std::fil
   summary.floor_found = floor.found;
   WriteOccupancyGrid(occupancy.Project(floor.T_fw), folder / "occupancy.pgm", folder / "occupancy.yaml");
   summary.written = true;
+  summary.people = CheckPeople(keyframes, folder);
   summary.seconds = clock.ElapsedSeconds();
   return summary;
+}
+
+std::optional<eval::PersonSurface> DenseMapper::CheckPeople(const core::Trajectory& keyframes,
+                                                            const std::filesystem::path& folder) const {
+  std::vector<eval::PersonView> views;
+  for (const core::StampedPose& keyframe : keyframes) {
+    const auto found = prepared_.lower_bound(keyframe.timestamp - kStampTolerance);
+    if (found == prepared_.end() || found->first > keyframe.timestamp + kStampTolerance) continue;
+    for (const PersonCrop& crop : found->second.people) {
+      cv::Mat depth;
+      cv::imdecode(crop.png, cv::IMREAD_UNCHANGED).convertTo(depth, CV_32F, 1.0 / kDepthUnitsPerMetre);
+      views.push_back({keyframe.T_wc, crop.box, depth});
+    }
+  }
+  if (views.empty()) return std::nullopt;
+  return eval::MeasurePersonSurface(io::ReadPlyMesh(folder / "mesh.ply").vertices, options_.voxel_size, views,
+                                    camera_);
 }
 
 }  // namespace hoidslam::dense

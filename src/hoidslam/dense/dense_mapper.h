@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <vector>
 
@@ -20,6 +21,8 @@
 #include "hoidslam/core/pose.h"
 #include "hoidslam/dense/dense_options.h"
 #include "hoidslam/dense/dense_summary.h"
+#include "hoidslam/detect/detector.h"
+#include "hoidslam/eval/person_surface.h"
 #include "hoidslam/pipeline/session.h"
 
 namespace hoidslam::dense {
@@ -32,14 +35,16 @@ class DenseMapper {
   DenseMapper(const DenseMapper&) = delete;
   DenseMapper& operator=(const DenseMapper&) = delete;
 
-  // One keyframe: its images (copied here, the rest happens in the mapper's thread) and the pixels the filter left
-  // out (CV_8UC1, non-zero = dynamic; empty: none).
-  // Throws std::logic_error after Build.
-  void AddKeyFrame(const core::RgbdFrame& frame, const cv::Mat& left_out);
+  // One keyframe: its images (copied here, the rest happens in the mapper's thread), the pixels the filter left
+  // out (CV_8UC1, non-zero = dynamic; empty: none), and the detector's person boxes, in which the built map is
+  // checked for people it kept (eval/person_surface.h). Throws std::logic_error after Build.
+  void AddKeyFrame(const core::RgbdFrame& frame, const cv::Mat& left_out, const std::vector<cv::Rect>& people = {});
   // AddKeyFrame for a frame `session` just tracked when it became a keyframe, with what the session's filter left
-  // out of it (Session::StaticMapExclusion); the command and the API call it after each frame.
+  // out of it (Session::StaticMapExclusion) and the boxes of the session's person class it judged; the command and
+  // the API call it after each frame. A session whose mode judges no boxes (none) leaves `detector`, when given,
+  // free: it is asked for the keyframe's boxes here, in the caller's thread, for the check alone.
   void TakeKeyFrame(const pipeline::Session& session, const core::RgbdFrame& frame,
-                    const pipeline::FrameOutcome& outcome);
+                    const pipeline::FrameOutcome& outcome, detect::Detector* detector = nullptr);
 
   // Waits for the keyframes handed over to be prepared, fuses those `keyframes` holds at the poses it gives
   // (matched by timestamp; the map's final keyframes), and writes the outputs into `folder` (each file complete or
@@ -49,18 +54,28 @@ class DenseMapper {
   const DenseOptions& options() const { return options_; }
 
  private:
+  // A person box with the depth measured in it, in half-millimetres as a PNG (nothing left out).
+  struct PersonCrop {
+    cv::Rect box;
+    std::vector<unsigned char> png;
+  };
   // A keyframe as kept until the build: the depth in half-millimetres (0 = not fused) as a PNG, the colour as JPEG.
   struct Prepared {
     std::vector<unsigned char> png;
     std::vector<unsigned char> jpeg;
+    std::vector<PersonCrop> people;
   };
   struct Pending {
     double timestamp = 0.0;
     cv::Mat bgr, depth, left_out;
+    std::vector<cv::Rect> people;
   };
   void Work();
   void Stop();
   DenseSummary Fuse(const core::Trajectory& keyframes, const std::filesystem::path& folder) const;
+  // The person boxes of the keyframes fused, at their poses, against the map written into `folder`.
+  std::optional<eval::PersonSurface> CheckPeople(const core::Trajectory& keyframes,
+                                                 const std::filesystem::path& folder) const;
   Prepared Prepare(const Pending& pending) const;
 
   DenseOptions options_;

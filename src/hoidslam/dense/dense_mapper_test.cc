@@ -73,6 +73,31 @@ TEST(DenseMapper, FusesTheFinalKeyFramesAtTheirFinalPosesWithoutWhatWasLeftOut) 
   EXPECT_GT(beside, 10U);
 }
 
+TEST(DenseMapper, ChecksThePersonBoxesForPeopleTheMapKept) {
+  // The detector's box is wider than the person and runs out of the image. Left out, the person is not in the map:
+  // none of their pixels has surface at the depth measured there; fused (nothing left out), they are.
+  const WallScene scene;
+  const cv::Rect box(25, 5, 30, 80);
+  const auto people_kept = [&](const cv::Mat& left_out) {
+    DenseMapper mapper(CoarseOptions(), scene.camera);
+    for (const double t : {1.0, 2.0}) mapper.AddKeyFrame(scene.Frame(t), left_out, {box});
+    const testing::TempDir dir;
+    const DenseSummary summary = mapper.Build({{1.0, core::Pose::Identity()}, {2.0, core::Pose::Identity()}}, dir.path());
+    EXPECT_TRUE(summary.people.has_value());
+    return summary.people.value_or(eval::PersonSurface{});
+  };
+  const eval::PersonSurface left_out = people_kept(scene.LeftOut());
+  EXPECT_EQ(left_out.boxes, 2U);
+  EXPECT_GE(left_out.person_pixels, 2U * static_cast<std::size_t>(scene.Person().area()));
+  EXPECT_LT(left_out.Share(), 0.02);
+  EXPECT_GT(people_kept(cv::Mat()).Share(), 0.9);
+
+  DenseMapper without_boxes(CoarseOptions(), scene.camera);
+  without_boxes.AddKeyFrame(scene.Frame(1.0), scene.LeftOut());
+  const testing::TempDir dir;
+  EXPECT_FALSE(without_boxes.Build({{1.0, core::Pose::Identity()}}, dir.path()).people.has_value());
+}
+
 TEST(DenseMapper, UndistortsTheKeyFramesOfACameraWithDistortion) {
   // A wall 1.5 m away seen through a lens with strong barrel distortion, a gap in it at world x in [0.5, 0.7] m: each
   // distorted pixel shows the wall point its undistorted ray meets.

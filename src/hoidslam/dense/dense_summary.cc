@@ -18,7 +18,7 @@ double Median(std::vector<double> values) {
 }  // namespace
 
 nlohmann::json DenseSummaryJson(const DenseSummary& summary, const DenseOptions& options) {
-  return {
+  nlohmann::json json = {
       {"written", summary.written},
       {"keyframes", summary.keyframes},
       {"keyframes_without_images", summary.keyframes_without_images},
@@ -39,7 +39,10 @@ nlohmann::json DenseSummaryJson(const DenseSummary& summary, const DenseOptions&
         {"mask_margin", options.mask_margin},
         {"occupancy_resolution", options.occupancy.resolution},
         {"occupancy_band", {options.occupancy.band_low, options.occupancy.band_high}}}},
+      {"people", nullptr},
   };
+  if (summary.people) json["people"] = eval::PersonSurfaceJson(*summary.people, {});
+  return json;
 }
 
 std::string FormatDenseSummary(const DenseSummary& summary, const DenseOptions& options) {
@@ -52,6 +55,10 @@ std::string FormatDenseSummary(const DenseSummary& summary, const DenseOptions& 
       summary.keyframes, summary.seconds, Median(summary.fuse_ms), summary.mesh.vertices, summary.mesh.area,
       options.voxel_size, summary.cloud_points, summary.occupied_cells, options.occupancy.resolution,
       summary.floor_found ? "the 2D grid on the floor found" : "no floor in view: the 2D grid on the first camera's up");
+  if (summary.people) {
+    line += fmt::format("; people kept: {:.1f} % of the person pixels in {} boxes of the keyframes",
+                        100.0 * summary.people->Share(), summary.people->boxes);
+  }
   if (summary.keyframes_without_images > 0) {
     line += fmt::format("; {} keyframes of the loaded map have no images to fuse", summary.keyframes_without_images);
   }

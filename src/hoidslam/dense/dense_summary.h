@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -10,6 +11,7 @@
 
 #include "hoidslam/dense/dense_options.h"
 #include "hoidslam/dense/tsdf_volume.h"
+#include "hoidslam/eval/person_surface.h"
 
 namespace hoidslam::dense {
 
@@ -29,6 +31,9 @@ struct DenseSummary {
   double volume_megabytes = 0.0;
   double held_megabytes = 0.0;  // the keyframes' prepared images, compressed, held until the build
   std::vector<double> fuse_ms;  // per keyframe: the volume's integration and the occupancy's rays
+  // The people the map kept: in the fused keyframes' person boxes, the share of the person's pixels where the map
+  // has surface (eval/person_surface.h); none when no keyframe had a person box.
+  std::optional<eval::PersonSurface> people;
   double seconds = 0.0;         // the whole build: fusion and writing the outputs
 };
 
