@@ -22,6 +22,7 @@
 #include "hoidslam/core/interrupt.h"
 #include "hoidslam/core/shipped_dir.h"
 #include "hoidslam/dense/dense_mapper.h"
+#include "hoidslam/dense/display_mesh.h"
 #include "hoidslam/dense/occupancy.h"
 #include "hoidslam/eval/dense_score.h"
 #include "hoidslam/eval/evaluation.h"
@@ -217,6 +218,11 @@ void RunRun(const RunArgs& args) {
   const pipeline::RunSummary summary = pipeline::RunSequence(sequence, *detector, options, out.temporary(), hooks);
   std::optional<dense::DenseSummary> dense_summary;
   if (dense_mapper) dense_summary = dense_mapper->Build(final_keyframes, out.temporary());
+  // The dense map as the report shows it: mesh.ply made small enough for a browser.
+  std::optional<io::TriangleMesh> dense_display;
+  if (dense_summary && dense_summary->written) {
+    dense_display = dense::ReadMeshForDisplay(out.temporary() / "mesh.ply", report::kReportDenseTriangles);
+  }
 
   nlohmann::json json = pipeline::RunSummaryJson(summary, sequence.name(), options.exclusion.ModeName(),
                                                  detector->Name(), options.realtime);
@@ -314,7 +320,7 @@ void RunRun(const RunArgs& args) {
   if (fs::is_directory(out.temporary() / "snapshots")) written.push_back("snapshots/");
   try {
     report::WriteRunReport(out.temporary(), evaluation ? groundtruth : fs::path(), out.temporary() / "report.html",
-                           out.path());
+                           out.path(), std::move(dense_display));
     written.push_back("report.html");
   } catch (const core::InputError& e) {
     spdlog::warn("no report.html: {}", e.what());  // the run's own outputs are complete; only the page is missing
