@@ -218,10 +218,11 @@ void RunRun(const RunArgs& args) {
   const pipeline::RunSummary summary = pipeline::RunSequence(sequence, *detector, options, out.temporary(), hooks);
   std::optional<dense::DenseSummary> dense_summary;
   if (dense_mapper) dense_summary = dense_mapper->Build(final_keyframes, out.temporary());
-  // The dense map as the report shows it: mesh.ply made small enough for a browser.
+  // The dense map as the report and the viewer show it: mesh.ply made small enough for a browser.
   std::optional<io::TriangleMesh> dense_display;
   if (dense_summary && dense_summary->written) {
     dense_display = dense::ReadMeshForDisplay(out.temporary() / "mesh.ply", report::kReportDenseTriangles);
+    if (view && dense_display) view->ShowDenseMap(*dense_display);
   }
 
   nlohmann::json json = pipeline::RunSummaryJson(summary, sequence.name(), options.exclusion.ModeName(),
