@@ -66,15 +66,18 @@ TEST(CliDense, ARunWritesTheStaticWorldAsAMeshACloudAndOccupancyMaps) {
 }
 
 // The dense map in a browser, live and in the report: web/tests/viewer_test.mjs runs `run --dense --view
-// --view-keep` and checks that the page draws the dense map once built, within the budget, and that its legend's
-// box hides and shows it; then it opens the run's report.html, which must draw as many triangles as it embeds.
+// --view-keep` and checks that the page draws the live preview as it grows, then the dense map once built, within
+// the budget, and that its legend's box hides and shows it; then it opens the run's report.html, which must draw as
+// many triangles as it embeds.
 TEST(CliDense, TheViewerAndTheReportShowTheDenseMap) {
   const testing::TempDir scratch;
-  const fs::path sequence = Render(scratch, "walking_xyz", ThinnedUnderSanitizers({45, 2}));
+  // Long enough a run for the preview to be shown (every second) after the page has opened.
+  const fs::path sequence = Render(scratch, "walking_xyz", ThinnedUnderSanitizers({120, 2}));
   const fs::path run = scratch / "run";
-  const RunResult live = RunPageTest(scratch, {"--hoidslam", HOIDSLAM_BINARY, "--out", run.string(), "--",
-                                               sequence.string(), "--dense"});
+  const RunResult live = RunPageTest(
+      scratch, {"--hoidslam", HOIDSLAM_BINARY, "--out", run.string(), "--live-dense", "--", sequence.string(), "--dense"});
   EXPECT_EQ(live.exit_status, 0) << live.out << live.err;
+  EXPECT_THAT(live.out, HasSubstr("ok: the page drew dense maps of "));
   EXPECT_THAT(live.out, HasSubstr("ok: stat-dense = "));
   EXPECT_THAT(live.out, HasSubstr("ok: the legend's box hides and shows the dense map"));
 

@@ -174,6 +174,10 @@ void RunRun(const RunArgs& args) {
     }
   }
 
+  // Declared before the dense mapper, whose live preview shows its meshes on the viewer: the mapper (and the
+  // preview's thread) ends first, then the viewer, then the playback it controls.
+  pipeline::Playback playback;
+  std::unique_ptr<viewer::Viewer> view;
   // The dense map's options are checked before the run: a volume too big for memory is said now.
   std::unique_ptr<dense::DenseMapper> dense_mapper;
   if (args.dense) {
@@ -183,13 +187,16 @@ void RunRun(const RunArgs& args) {
   }
 
   // The viewer listens before the run starts: a port that is taken is said before any tracking.
-  pipeline::Playback playback;
-  std::unique_ptr<viewer::Viewer> view;
   if (args.view) {
     const viewer::ViewerHello hello{sequence.name(), pipeline::FramesToPlay(options.max_frames, sequence.size()),
                                     options.system.camera};
     view = std::make_unique<viewer::Viewer>(args.view_options, hello, options.realtime.pace ? nullptr : &playback);
     spdlog::info("viewer: {}", view->url());
+  }
+  if (view && dense_mapper) {
+    // The dense map grows on the page while the run goes: coarse, at the poses tracking gives, until the final map
+    // built from the final poses replaces it.
+    dense_mapper->FollowPreview({}, [viewer = view.get()](io::TriangleMesh mesh) { viewer->ShowDenseMap(mesh); });
   }
 
   io::AtomicFolder out(args.out, args.force, "--out", "use --force to replace it");

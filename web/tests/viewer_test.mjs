@@ -3,7 +3,7 @@
 // what it shows against the files the run wrote (docs/viewer.md, "The browser test"); or opens a run report and
 // checks the same page inlined in it.
 //
-//   node viewer_test.mjs --hoidslam BIN --out RUN_FOLDER [--close-tab-midway] [--playwright DIR]
+//   node viewer_test.mjs --hoidslam BIN --out RUN_FOLDER [--close-tab-midway] [--live-dense] [--playwright DIR]
 //                        [--chromium PATH] [--screenshot PNG] [--timeout SECONDS] -- <hoidslam run arguments>
 //   node viewer_test.mjs --report REPORT_HTML --out RUN_FOLDER [--playwright DIR] [--chromium PATH]
 //                        [--screenshot PNG] [--timeout SECONDS]
@@ -12,6 +12,8 @@
 // nothing outside 127.0.0.1, and its numbers must match map.ply, keyframes.txt and frames.jsonl; the screenshot
 // must not be blank; SIGINT must end the run with status 0.
 // --close-tab-midway: the page is closed while the run goes, and the run must finish and exit 0 by itself.
+// --live-dense (a run with --dense): before the run finished, the page must have drawn more than one dense map: the
+// live preview as it grew, then the final map.
 // --report: the report of the run folder, opened from its file, must ask for nothing at all and log no error or
 // warning; its map must show the points of map.ply and the keyframes of keyframes.txt, and must not be blank.
 // Either way, when the run folder has a mesh.ply (a run with --dense), the page must draw a dense map of at most
@@ -25,7 +27,7 @@ import path from 'node:path';
 import { pathToFileURL } from 'node:url';
 
 const USAGE = 'usage: node viewer_test.mjs --hoidslam BIN --out RUN_FOLDER [--close-tab-midway] [--playwright DIR] ' +
-  '[--chromium PATH] [--screenshot PNG] [--timeout SECONDS] -- <hoidslam run arguments>\n' +
+  '[--live-dense] [--chromium PATH] [--screenshot PNG] [--timeout SECONDS] -- <hoidslam run arguments>\n' +
   '   or: node viewer_test.mjs --report REPORT_HTML --out RUN_FOLDER [--playwright DIR] [--chromium PATH] ' +
   '[--screenshot PNG] [--timeout SECONDS]';
 const POLL_MS = 250;
@@ -46,7 +48,7 @@ function parseArguments(argv) {
   const split = argv.indexOf('--');
   const own = split < 0 ? argv : argv.slice(0, split);
   const options = {
-    hoidslam: null, report: null, out: null, closeTabMidway: false, timeoutSeconds: 120,
+    hoidslam: null, report: null, out: null, closeTabMidway: false, liveDense: false, timeoutSeconds: 120,
     playwright: process.env.HOIDSLAM_PLAYWRIGHT ?? null, chromium: '/usr/bin/chromium', screenshot: null,
     runArguments: split < 0 ? [] : argv.slice(split + 1),
   };
@@ -54,6 +56,7 @@ function parseArguments(argv) {
     '--chromium': 'chromium', '--screenshot': 'screenshot', '--timeout': 'timeoutSeconds' };
   for (let i = 0; i < own.length; i += 1) {
     if (own[i] === '--close-tab-midway') options.closeTabMidway = true;
+    else if (own[i] === '--live-dense') options.liveDense = true;
     else if (valued[own[i]] && i + 1 < own.length) options[valued[own[i]]] = own[++i];
     else throw new Error(`unknown argument ${own[i]}\n${USAGE}`);
   }
@@ -141,12 +144,17 @@ async function waitFor(description, condition, timeoutMs) {
   }
 }
 
-/** Waits for the run to finish, measuring how many frames a second the page drew meanwhile. */
+/**
+ * Waits for the run to finish, measuring how many frames a second the page drew meanwhile; returns the triangle
+ * counts of the dense maps it was seen to draw before.
+ */
 async function waitForFinish(page, timeoutMs) {
   let firstDrawn = null;
+  const denseWhileRunning = new Set();
   const last = await waitFor('stat-run to read "finished"', async () => {
     const stats = await readStats(page);
     if (!firstDrawn && Number(stats.updates) > 0) firstDrawn = { time: Date.now(), updates: Number(stats.updates) };
+    if (stats.run !== 'finished' && Number(stats.dense) > 0) denseWhileRunning.add(Number(stats.dense));
     return stats.run === 'finished' && { time: Date.now(), updates: Number(stats.updates) };
   }, timeoutMs);
   if (firstDrawn && last.time > firstDrawn.time) {
@@ -154,6 +162,7 @@ async function waitForFinish(page, timeoutMs) {
     console.log(`the page drew ${rate.toFixed(1)} frame updates a second while the run went ` +
       `(${last.updates} in all)`);
   }
+  return [...denseWhileRunning];
 }
 
 /** The stats once the map counts and the frame shown have stayed the same for SETTLE_MS. */
@@ -277,7 +286,12 @@ async function checkPictures(page, shown, screenshotPath) {
 }
 
 async function checkFinishedRun(page, options, deadline) {
-  await waitForFinish(page, deadline - Date.now());
+  const denseWhileRunning = await waitForFinish(page, deadline - Date.now());
+  if (options.liveDense) {
+    const counts = denseWhileRunning.join(', ') || 'none';
+    if (denseWhileRunning.length > 1) console.log(`ok: the page drew dense maps of ${counts} triangles while the run went`);
+    else fail(`the page drew dense maps of ${counts} triangles while the run went: no live preview (--live-dense)`);
+  }
   const stats = await waitForSettledStats(page, deadline - Date.now());
   checkMapCounts(stats, options.out);
   const entry = frameLogLine(path.join(options.out, 'frames.jsonl'), Number(stats.frame));

@@ -52,9 +52,10 @@ void DenseMapper::Stop() {
   if (thread_.joinable()) thread_.join();
 }
 
-void DenseMapper::AddKeyFrame(const core::RgbdFrame& frame, const cv::Mat& left_out) {
+void DenseMapper::AddKeyFrame(const core::RgbdFrame& frame, const cv::Mat& left_out,
+                              const std::optional<core::Pose>& T_wc) {
   // Copies: the caller's buffers (a program's own, through the API) may be reused once the frame is tracked.
-  Pending pending{frame.timestamp, frame.rgb.clone(), frame.depth.clone(), left_out.clone()};
+  Pending pending{frame.timestamp, frame.rgb.clone(), frame.depth.clone(), left_out.clone(), T_wc};
   {
     std::lock_guard lock(mutex_);
     if (stopping_) throw std::logic_error("DenseMapper::AddKeyFrame after Build");
@@ -65,7 +66,17 @@ void DenseMapper::AddKeyFrame(const core::RgbdFrame& frame, const cv::Mat& left_
 
 void DenseMapper::TakeKeyFrame(const pipeline::Session& session, const core::RgbdFrame& frame,
                                const pipeline::FrameOutcome& outcome) {
-  if (outcome.result.keyframe) AddKeyFrame(frame, session.StaticMapExclusion(frame));
+  if (!outcome.result.keyframe) return;
+  std::optional<core::Pose> T_wc;
+  if (outcome.result.T_cw) T_wc = outcome.result.T_cw->inverse();
+  AddKeyFrame(frame, session.StaticMapExclusion(frame), T_wc);
+}
+
+void DenseMapper::FollowPreview(const PreviewOptions& preview, std::function<void(io::TriangleMesh)> show) {
+  const std::lock_guard lock(mutex_);
+  if (stopping_) throw std::logic_error("DenseMapper::FollowPreview after Build");
+  if (preview_) throw std::logic_error("DenseMapper::FollowPreview: already following");
+  preview_ = std::make_unique<DensePreview>(options_, preview, camera_, std::move(show));
 }
 
 void DenseMapper::Work() {
@@ -75,15 +86,17 @@ void DenseMapper::Work() {
     if (queue_.empty()) return;  // stopping, and nothing left
     const Pending pending = std::move(queue_.front());
     queue_.pop_front();
+    DensePreview* preview = pending.T_wc ? preview_.get() : nullptr;
     lock.unlock();
-    Prepared prepared = Prepare(pending);
+    const View view = Fusible(pending);
+    if (preview != nullptr) preview->Add(view.bgr, view.depth, *pending.T_wc);  // shared: neither is changed
+    Prepared prepared = Compress(view);
     lock.lock();
     prepared_[pending.timestamp] = std::move(prepared);
   }
 }
 
-DenseMapper::Prepared DenseMapper::Prepare(const Pending& pending) const {
-  Prepared prepared;
+DenseMapper::View DenseMapper::Fusible(const Pending& pending) const {
   cv::Mat depth = FusibleDepth(pending.depth, pending.left_out, options_);
   cv::Mat bgr = pending.bgr;
   if (!undistort_x_.empty()) {
@@ -91,17 +104,23 @@ DenseMapper::Prepared DenseMapper::Prepare(const Pending& pending) const {
     cv::remap(depth, depth, undistort_x_, undistort_y_, cv::INTER_NEAREST, cv::BORDER_CONSTANT, 0.0);
     cv::remap(bgr, bgr, undistort_x_, undistort_y_, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
   }
+  return {bgr, depth};
+}
+
+DenseMapper::Prepared DenseMapper::Compress(const View& view) {
+  Prepared prepared;
   cv::Mat units;
-  depth.convertTo(units, CV_16U, kDepthUnitsPerMetre);
+  view.depth.convertTo(units, CV_16U, kDepthUnitsPerMetre);
   // Lossless and fast at level 1: on the 3,600-frame loop the keyframes held took 207 MB raw, and the build's peak
   // memory is the volume's plus theirs.
   cv::imencode(".png", units, prepared.png, {cv::IMWRITE_PNG_COMPRESSION, 1});
-  cv::imencode(".jpg", bgr, prepared.jpeg, {cv::IMWRITE_JPEG_QUALITY, kJpegQuality});
+  cv::imencode(".jpg", view.bgr, prepared.jpeg, {cv::IMWRITE_JPEG_QUALITY, kJpegQuality});
   return prepared;
 }
 
 DenseSummary DenseMapper::Build(const core::Trajectory& keyframes, const std::filesystem::path& folder) {
   Stop();  // every keyframe handed over is prepared once the thread has ended
+  preview_.reset();  // the final map replaces it, and its thread would take cores from the build
   // In a thread of the mapper's own, so that the caller's OpenMP setting stays as it was (UseOneOpenMPThread).
   DenseSummary summary;
   std::exception_ptr failure;
