@@ -1,5 +1,6 @@
-// End-to-end tests of `hoidslam run --dense`: the dense outputs of a run a user opens elsewhere, and bad options
-// refused before the run. Threaded tests: the dense mapper prepares keyframes in its own thread while tracking goes.
+// End-to-end tests of `hoidslam run --dense`: the dense outputs of a run a user opens elsewhere, the dense map in the
+// viewer and the report, and bad options refused before the run. Threaded tests: the dense mapper prepares keyframes
+// in its own thread while tracking goes.
 #include <algorithm>
 #include <string>
 #include <vector>
@@ -62,6 +63,30 @@ TEST(CliDense, ARunWritesTheStaticWorldAsAMeshACloudAndOccupancyMaps) {
   ASSERT_EQ(grid.type(), CV_8UC1);
   EXPECT_GT(cv::countNonZero(grid == 0), 20) << "occupied cells: the desks and walls";
   EXPECT_GT(cv::countNonZero(grid == 254), 20) << "free cells between the camera and them";
+}
+
+// The dense map in a browser, live and in the report: web/tests/viewer_test.mjs runs `run --dense --view
+// --view-keep` and checks that the page draws the live preview as it grows, then the dense map once built, within
+// the budget, and that its legend's box hides and shows it; then it opens the run's report.html, which must draw as
+// many triangles as it embeds.
+TEST(CliDense, TheViewerAndTheReportShowTheDenseMap) {
+  const testing::TempDir scratch;
+  // Long enough a run for the preview to be shown (every second) after the page has opened.
+  const fs::path sequence = Render(scratch, "walking_xyz", ThinnedUnderSanitizers({120, 2}));
+  const fs::path run = scratch / "run";
+  const RunResult live = RunPageTest(
+      scratch, {"--hoidslam", HOIDSLAM_BINARY, "--out", run.string(), "--live-dense", "--", sequence.string(), "--dense"});
+  EXPECT_EQ(live.exit_status, 0) << live.out << live.err;
+  EXPECT_THAT(live.out, HasSubstr("ok: the page drew dense maps of "));
+  EXPECT_THAT(live.out, HasSubstr("ok: stat-dense = "));
+  EXPECT_THAT(live.out, HasSubstr("ok: the legend's box hides and shows the dense map"));
+
+  const std::string html = testing::ReadText(run / "report.html");
+  EXPECT_THAT(html, HasSubstr("The dense map of mesh.ply with it"));
+  const RunResult report = RunPageTest(scratch, {"--report", (run / "report.html").string(), "--out", run.string()});
+  EXPECT_EQ(report.exit_status, 0) << report.out << report.err;
+  EXPECT_THAT(report.out, HasSubstr("ok: stat-dense against the embedded dense map"));
+  EXPECT_THAT(report.out, HasSubstr("report test passed"));
 }
 
 TEST(CliDense, ModeNoneIsCheckedForPeopleInTheBoxesOfTheSequencesDetections) {

@@ -1,6 +1,6 @@
 // `hoidslam report`: one self-contained HTML page about a folder written by `hoidslam run`: counts, the trajectory
-// seen from above against ground truth, the error over time, features, time per stage, and the annotated
-// snapshots when the run saved any (docs/report.md).
+// seen from above against ground truth, the error over time, features, time per stage, the map in 3D (with the
+// dense map when the run made one), and the annotated snapshots when the run saved any (docs/report.md).
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "commands.h"
+#include "hoidslam/dense/display_mesh.h"
 #include "hoidslam/report/html_report.h"
 
 namespace hoidslam::apps {
@@ -26,7 +27,9 @@ void RunReport(const ReportArgs& args) {
   const fs::path groundtruth = args.groundtruth.empty() ? report::RecordedGroundTruthIfPresent(folder, "--groundtruth")
                                                         : fs::path(args.groundtruth);
   const fs::path out = args.out.empty() ? folder / "report.html" : fs::path(args.out);
-  report::WriteRunReport(folder, groundtruth, out);
+  // The report module does not link Open3D: the dense map is made small here (docs/report.md).
+  report::WriteRunReport(folder, groundtruth, out, {},
+                         dense::ReadMeshForDisplay(folder / "mesh.ply", report::kReportDenseTriangles));
   fmt::print("wrote {} ({})\n", out.string(),
              groundtruth.empty() ? "no ground truth" : "ground truth " + groundtruth.string());
 }

@@ -22,6 +22,7 @@
 #include "hoidslam/core/interrupt.h"
 #include "hoidslam/core/shipped_dir.h"
 #include "hoidslam/dense/dense_mapper.h"
+#include "hoidslam/dense/display_mesh.h"
 #include "hoidslam/dense/occupancy.h"
 #include "hoidslam/eval/dense_score.h"
 #include "hoidslam/eval/evaluation.h"
@@ -173,6 +174,10 @@ void RunRun(const RunArgs& args) {
     }
   }
 
+  // Declared before the dense mapper, whose live preview shows its meshes on the viewer: the mapper (and the
+  // preview's thread) ends first, then the viewer, then the playback it controls.
+  pipeline::Playback playback;
+  std::unique_ptr<viewer::Viewer> view;
   // The dense map's options are checked before the run: a volume too big for memory is said now.
   std::unique_ptr<dense::DenseMapper> dense_mapper;
   if (args.dense) {
@@ -182,13 +187,16 @@ void RunRun(const RunArgs& args) {
   }
 
   // The viewer listens before the run starts: a port that is taken is said before any tracking.
-  pipeline::Playback playback;
-  std::unique_ptr<viewer::Viewer> view;
   if (args.view) {
     const viewer::ViewerHello hello{sequence.name(), pipeline::FramesToPlay(options.max_frames, sequence.size()),
                                     options.system.camera};
     view = std::make_unique<viewer::Viewer>(args.view_options, hello, options.realtime.pace ? nullptr : &playback);
     spdlog::info("viewer: {}", view->url());
+  }
+  if (view && dense_mapper) {
+    // The dense map grows on the page while the run goes: coarse, at the poses tracking gives, until the final map
+    // built from the final poses replaces it.
+    dense_mapper->FollowPreview({}, [viewer = view.get()](io::TriangleMesh mesh) { viewer->ShowDenseMap(mesh); });
   }
 
   io::AtomicFolder out(args.out, args.force, "--out", "use --force to replace it");
@@ -217,6 +225,12 @@ void RunRun(const RunArgs& args) {
   const pipeline::RunSummary summary = pipeline::RunSequence(sequence, *detector, options, out.temporary(), hooks);
   std::optional<dense::DenseSummary> dense_summary;
   if (dense_mapper) dense_summary = dense_mapper->Build(final_keyframes, out.temporary());
+  // The dense map as the report and the viewer show it: mesh.ply made small enough for a browser.
+  std::optional<io::TriangleMesh> dense_display;
+  if (dense_summary && dense_summary->written) {
+    dense_display = dense::ReadMeshForDisplay(out.temporary() / "mesh.ply", report::kReportDenseTriangles);
+    if (view && dense_display) view->ShowDenseMap(*dense_display);
+  }
 
   nlohmann::json json = pipeline::RunSummaryJson(summary, sequence.name(), options.exclusion.ModeName(),
                                                  detector->Name(), options.realtime);
@@ -314,7 +328,7 @@ void RunRun(const RunArgs& args) {
   if (fs::is_directory(out.temporary() / "snapshots")) written.push_back("snapshots/");
   try {
     report::WriteRunReport(out.temporary(), evaluation ? groundtruth : fs::path(), out.temporary() / "report.html",
-                           out.path());
+                           out.path(), std::move(dense_display));
     written.push_back("report.html");
   } catch (const core::InputError& e) {
     spdlog::warn("no report.html: {}", e.what());  // the run's own outputs are complete; only the page is missing

@@ -1,7 +1,7 @@
 // Where the viewer's messages come from: the run's server-sent events, or the data a report embedded in the page.
-// Either way they reach the same handlers: { hello, map, frame, status }, each taking the message's object.
+// Either way they reach the same handlers: { hello, map, dense, frame, status }, each taking the message's object.
 
-const EVENT_NAMES = ['hello', 'map', 'frame', 'status'];
+const EVENT_NAMES = ['hello', 'map', 'dense', 'frame', 'status'];
 
 /** The `<script id="hoidslam-data" type="application/json">` a report embeds, parsed; null on a live page. */
 export function readEmbeddedData() {
@@ -16,6 +16,7 @@ export function readEmbeddedData() {
 export function replayEmbedded(data, handlers) {
   handlers.hello(data.hello);
   if (data.map) handlers.map({ ...data.map, full: true });
+  if (data.dense) handlers.dense(data.dense);
   if (data.frame) handlers.frame(data.frame);
   const frames = data.hello.total_frames;
   handlers.status(data.status ?? { state: 'finished', paused: false, speed: 0, frames_done: frames,

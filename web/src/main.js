@@ -36,6 +36,7 @@ function start() {
       controls.setControllable(hello.controllable && !embedded);
     },
     map: (map) => mapView.applyMap(map),
+    dense: (dense) => mapView.setDenseMesh(dense),
     frame(frame) {
       framePanel.receive(frame);
       mapView.setCurrentPose(frame.T_wc);

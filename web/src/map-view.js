@@ -1,8 +1,9 @@
-// The 3D map: points, keyframes and their graph, the current camera, and a view a person can orbit or let follow
-// the camera. The world frame is the camera's (x right, y down, z forward), so the view's "up" is −y.
+// The 3D map: points, keyframes and their graph, the dense map when the run makes one, the current camera, and a view
+// a person can orbit or let follow the camera. The world frame is the camera's (x right, y down, z forward), so the view's "up" is −y.
 import { LinearSRGBColorSpace, PerspectiveCamera, Scene, Vector3, WebGLRenderer } from 'three';
 import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
-import { element, formatCount, legendItem } from './dom.js';
+import { DenseMesh } from './dense-mesh.js';
+import { element, formatCount, legendItem, setText } from './dom.js';
 import { KeyframeGraph } from './keyframe-graph.js';
 import { boldLines, setSegments } from './lines.js';
 import {
@@ -33,6 +34,20 @@ export class MapView {
     const wholeMapButton = element('button', { text: 'Whole map', title: 'Look at every point held' });
     wholeMapButton.addEventListener('click', () => this.showWholeMap());
     this.legend = element('ul', { className: 'legend' });
+    // The dense map's entry in the legend, with the box that shows or hides it: kept across legend redraws, so the
+    // box keeps its state; in the legend once a dense map came.
+    this.denseBox = element('input');
+    this.denseBox.type = 'checkbox';
+    this.denseBox.checked = true;
+    this.denseBox.id = 'dense-map-toggle';
+    this.denseBox.addEventListener('change', () => {
+      this.denseMesh.mesh.visible = this.denseBox.checked;
+      this.needsRender = true;
+    });
+    this.denseText = element('span');
+    this.denseItem = element('li', { title: 'The dense map of the static world (mesh), made small enough to show' }, [
+      element('label', {}, [this.denseBox, ' ', this.denseText]),
+    ]);
     const toolbar = element('div', { className: 'map-toolbar' }, [
       element('label', { title: 'Keep the current camera in the middle of the view' }, [
         this.followBox, ' follow camera',
@@ -42,11 +57,12 @@ export class MapView {
     parent.append(element('section', { className: 'panel map-panel' }, [this.host, toolbar, this.legend]));
 
     this.pointCloud = new PointCloud();
+    this.denseMesh = new DenseMesh();
     this.keyframeGraph = new KeyframeGraph();
     this.currentCamera = boldLines({ color: CURRENT_CAMERA_COLOUR }, CURRENT_CAMERA_WIDTH);
     this.scene = new Scene();
     this.scene.background = BACKGROUND_COLOUR;
-    this.scene.add(this.pointCloud.points, this.keyframeGraph.group, this.currentCamera);
+    this.scene.add(this.denseMesh.mesh, this.pointCloud.points, this.keyframeGraph.group, this.currentCamera);
     this.viewCamera = new PerspectiveCamera(60, 1, 0.01, 1000); // the eye the map is seen with
     this.viewCamera.up.set(0, -1, 0);
     this.viewCamera.position.copy(VIEW_OFFSET);
@@ -88,6 +104,14 @@ export class MapView {
     this.needsRender = true;
   }
 
+  /** Takes a `dense` message: the dense map, replacing the one held. */
+  setDenseMesh(message) {
+    this.denseMesh.set(message);
+    this.denseMesh.mesh.visible = this.denseBox.checked;
+    this.legendChanged = true;
+    this.needsRender = true;
+  }
+
   /** The newest frame's pose (null when it was not tracked). */
   setCurrentPose(T_wc) {
     this.pose = T_wc;
@@ -117,6 +141,7 @@ export class MapView {
     this.stats.set('points', this.pointCloud.countOfMap(this.mainMap));
     this.stats.set('keyframes', this.keyframeGraph.countOfMap(this.mainMap));
     this.stats.set('maps', this.maps.length);
+    this.stats.set('dense', this.denseMesh.held ? this.denseMesh.drawnTriangles() : null);
     const now = performance.now();
     if (this.needsRender && this.renderer && (this.viewTurned || now - this.lastRender >= RUN_RENDER_INTERVAL_MS)) {
       this.needsRender = false;
@@ -155,7 +180,10 @@ export class MapView {
     });
     // No current camera before the first tracked frame, nor in a report's map, which has no frames.
     const cameraItems = this.lastPose ? [legendItem(cssColour(CURRENT_CAMERA_COLOUR), 'current camera')] : [];
-    this.legend.replaceChildren(...mapItems, ...cameraItems, legendItem(cssColour(LOOP_EDGE_COLOUR), 'loop edge'));
+    const denseItems = this.denseMesh.held ? [this.denseItem] : [];
+    setText(this.denseText, `dense map: ${formatCount(this.denseMesh.triangles)} triangles`);
+    this.legend.replaceChildren(...mapItems, ...denseItems, ...cameraItems,
+      legendItem(cssColour(LOOP_EDGE_COLOUR), 'loop edge'));
   }
 
   /** The renderer and its controls; without WebGL the panel says so and the rest of the page still works. */

@@ -12,6 +12,7 @@ const STATS = [
   { name: 'points', label: 'points', count: true, title: 'points of the main map' },
   { name: 'keyframes', label: 'keyframes', count: true, title: 'keyframes of the main map' },
   { name: 'maps', label: 'maps' },
+  { name: 'dense', label: 'dense triangles', count: true, title: 'triangles of the dense map drawn (0: hidden)' },
   { name: 'run', label: 'run' },
   { name: 'updates', label: 'frames drawn', count: true, frame: true },
 ];

@@ -3,7 +3,7 @@
 // what it shows against the files the run wrote (docs/viewer.md, "The browser test"); or opens a run report and
 // checks the same page inlined in it.
 //
-//   node viewer_test.mjs --hoidslam BIN --out RUN_FOLDER [--close-tab-midway] [--playwright DIR]
+//   node viewer_test.mjs --hoidslam BIN --out RUN_FOLDER [--close-tab-midway] [--live-dense] [--playwright DIR]
 //                        [--chromium PATH] [--screenshot PNG] [--timeout SECONDS] -- <hoidslam run arguments>
 //   node viewer_test.mjs --report REPORT_HTML --out RUN_FOLDER [--playwright DIR] [--chromium PATH]
 //                        [--screenshot PNG] [--timeout SECONDS]
@@ -12,8 +12,13 @@
 // nothing outside 127.0.0.1, and its numbers must match map.ply, keyframes.txt and frames.jsonl; the screenshot
 // must not be blank; SIGINT must end the run with status 0.
 // --close-tab-midway: the page is closed while the run goes, and the run must finish and exit 0 by itself.
+// --live-dense (a run with --dense): before the run finished, the page must have drawn more than one dense map: the
+// live preview as it grew, then the final map.
 // --report: the report of the run folder, opened from its file, must ask for nothing at all and log no error or
 // warning; its map must show the points of map.ply and the keyframes of keyframes.txt, and must not be blank.
+// Either way, when the run folder has a mesh.ply (a run with --dense), the page must draw a dense map of at most
+// REPORT_DENSE_TRIANGLES triangles (in a report, as many as it embeds) that its legend's box hides and shows again;
+// without one, none.
 // playwright-core comes from --playwright DIR or $HOIDSLAM_PLAYWRIGHT (the build's web-node/node_modules/playwright-core).
 import { spawn } from 'node:child_process';
 import fs from 'node:fs';
@@ -22,12 +27,13 @@ import path from 'node:path';
 import { pathToFileURL } from 'node:url';
 
 const USAGE = 'usage: node viewer_test.mjs --hoidslam BIN --out RUN_FOLDER [--close-tab-midway] [--playwright DIR] ' +
-  '[--chromium PATH] [--screenshot PNG] [--timeout SECONDS] -- <hoidslam run arguments>\n' +
+  '[--live-dense] [--chromium PATH] [--screenshot PNG] [--timeout SECONDS] -- <hoidslam run arguments>\n' +
   '   or: node viewer_test.mjs --report REPORT_HTML --out RUN_FOLDER [--playwright DIR] [--chromium PATH] ' +
   '[--screenshot PNG] [--timeout SECONDS]';
 const POLL_MS = 250;
 const SETTLE_MS = 1500; // the map counts must stay the same this long after the run finished
 const UPDATES_BEFORE_CLOSING = 5;
+const REPORT_DENSE_TRIANGLES = 100000; // the budget of the dense map the run shows (report::kReportDenseTriangles)
 // The emulated GPU driver's note on its own speed (see launchBrowser): the browser's, not the page's.
 const DRIVER_PERFORMANCE_NOTE = /^\[\.WebGL-[0-9a-fx]+\]GL Driver Message \(OpenGL, Performance, .*\): GPU stall due to ReadPixels/;
 
@@ -42,7 +48,7 @@ function parseArguments(argv) {
   const split = argv.indexOf('--');
   const own = split < 0 ? argv : argv.slice(0, split);
   const options = {
-    hoidslam: null, report: null, out: null, closeTabMidway: false, timeoutSeconds: 120,
+    hoidslam: null, report: null, out: null, closeTabMidway: false, liveDense: false, timeoutSeconds: 120,
     playwright: process.env.HOIDSLAM_PLAYWRIGHT ?? null, chromium: '/usr/bin/chromium', screenshot: null,
     runArguments: split < 0 ? [] : argv.slice(split + 1),
   };
@@ -50,6 +56,7 @@ function parseArguments(argv) {
     '--chromium': 'chromium', '--screenshot': 'screenshot', '--timeout': 'timeoutSeconds' };
   for (let i = 0; i < own.length; i += 1) {
     if (own[i] === '--close-tab-midway') options.closeTabMidway = true;
+    else if (own[i] === '--live-dense') options.liveDense = true;
     else if (valued[own[i]] && i + 1 < own.length) options[valued[own[i]]] = own[++i];
     else throw new Error(`unknown argument ${own[i]}\n${USAGE}`);
   }
@@ -137,12 +144,17 @@ async function waitFor(description, condition, timeoutMs) {
   }
 }
 
-/** Waits for the run to finish, measuring how many frames a second the page drew meanwhile. */
+/**
+ * Waits for the run to finish, measuring how many frames a second the page drew meanwhile; returns the triangle
+ * counts of the dense maps it was seen to draw before.
+ */
 async function waitForFinish(page, timeoutMs) {
   let firstDrawn = null;
+  const denseWhileRunning = new Set();
   const last = await waitFor('stat-run to read "finished"', async () => {
     const stats = await readStats(page);
     if (!firstDrawn && Number(stats.updates) > 0) firstDrawn = { time: Date.now(), updates: Number(stats.updates) };
+    if (stats.run !== 'finished' && Number(stats.dense) > 0) denseWhileRunning.add(Number(stats.dense));
     return stats.run === 'finished' && { time: Date.now(), updates: Number(stats.updates) };
   }, timeoutMs);
   if (firstDrawn && last.time > firstDrawn.time) {
@@ -150,6 +162,7 @@ async function waitForFinish(page, timeoutMs) {
     console.log(`the page drew ${rate.toFixed(1)} frame updates a second while the run went ` +
       `(${last.updates} in all)`);
   }
+  return [...denseWhileRunning];
 }
 
 /** The stats once the map counts and the frame shown have stayed the same for SETTLE_MS. */
@@ -158,7 +171,7 @@ async function waitForSettledStats(page, timeoutMs) {
   let since = Date.now();
   return waitFor('the map to settle', async () => {
     const stats = await readStats(page);
-    const key = `${stats.points}/${stats.keyframes}/${stats.frame}`;
+    const key = `${stats.points}/${stats.keyframes}/${stats.frame}/${stats.dense}`;
     if (key !== previous) {
       previous = key;
       since = Date.now();
@@ -167,11 +180,13 @@ async function waitForSettledStats(page, timeoutMs) {
   }, timeoutMs);
 }
 
-function plyVertexCount(file) {
+/** The count of an element (vertex, face) a PLY file's header declares. */
+function plyElementCount(file, element) {
   const bytes = fs.readFileSync(file);
   const headerEnd = bytes.indexOf('end_header');
-  const count = /element vertex (\d+)/.exec(bytes.subarray(0, Math.max(headerEnd, 0)).toString('latin1'));
-  if (!count) throw new Error(`${file} has no "element vertex N" in its header`);
+  const header = bytes.subarray(0, Math.max(headerEnd, 0)).toString('latin1');
+  const count = new RegExp(`element ${element} (\\d+)`).exec(header);
+  if (!count) throw new Error(`${file} has no "element ${element} N" in its header`);
   return Number(count[1]);
 }
 
@@ -222,9 +237,40 @@ function checkEqual(what, shown, expected) {
 
 /** stat-points and stat-keyframes against the main map the run wrote into `folder`. */
 function checkMapCounts(stats, folder) {
-  checkEqual('stat-points (main map) against map.ply', stats.points, plyVertexCount(path.join(folder, 'map.ply')));
+  checkEqual('stat-points (main map) against map.ply', stats.points,
+    plyElementCount(path.join(folder, 'map.ply'), 'vertex'));
   checkEqual('stat-keyframes (main map) against keyframes.txt', stats.keyframes,
     trajectoryLineCount(path.join(folder, 'keyframes.txt')));
+}
+
+/**
+ * The dense map against the run folder's mesh.ply: none without one; with one, drawn (as many triangles as the
+ * report embeds, when it does), within the budget and mesh.ply's own count, and hidden and shown by its legend box.
+ */
+async function checkDenseMap(page, stats, folder) {
+  const mesh = path.join(folder, 'mesh.ply');
+  if (!fs.existsSync(mesh)) {
+    checkEqual('stat-dense without mesh.ply', stats.dense, '');
+    return;
+  }
+  const shown = Number(stats.dense);
+  const limit = Math.min(REPORT_DENSE_TRIANGLES, plyElementCount(mesh, 'face'));
+  if (!(shown > 0 && shown <= limit)) fail(`stat-dense is ${stats.dense}: expected a dense map of 1 to ${limit} triangles`);
+  else console.log(`ok: stat-dense = ${shown} triangles drawn (mesh.ply has ${plyElementCount(mesh, 'face')})`);
+  const embedded = await page.evaluate(() => {
+    const data = document.getElementById('hoidslam-data');
+    return data ? JSON.parse(data.textContent).dense?.triangles ?? null : null;
+  });
+  if (embedded !== null) checkEqual('stat-dense against the embedded dense map', stats.dense, embedded);
+  currentStep = 'toggling the dense map';
+  const toggle = page.locator('#dense-map-toggle');
+  await toggle.uncheck();
+  await waitFor('stat-dense to read 0 with the dense map hidden', async () => (await readStats(page)).dense === '0',
+    10_000);
+  await toggle.check();
+  await waitFor('stat-dense to come back with the dense map shown',
+    async () => (await readStats(page)).dense === String(shown), 10_000);
+  console.log('ok: the legend\'s box hides and shows the dense map');
 }
 
 /** Takes the screenshot of `shown` (the page, or a locator of its part) and fails when it or the map is blank. */
@@ -240,7 +286,12 @@ async function checkPictures(page, shown, screenshotPath) {
 }
 
 async function checkFinishedRun(page, options, deadline) {
-  await waitForFinish(page, deadline - Date.now());
+  const denseWhileRunning = await waitForFinish(page, deadline - Date.now());
+  if (options.liveDense) {
+    const counts = denseWhileRunning.join(', ') || 'none';
+    if (denseWhileRunning.length > 1) console.log(`ok: the page drew dense maps of ${counts} triangles while the run went`);
+    else fail(`the page drew dense maps of ${counts} triangles while the run went: no live preview (--live-dense)`);
+  }
   const stats = await waitForSettledStats(page, deadline - Date.now());
   checkMapCounts(stats, options.out);
   const entry = frameLogLine(path.join(options.out, 'frames.jsonl'), Number(stats.frame));
@@ -251,6 +302,7 @@ async function checkFinishedRun(page, options, deadline) {
     checkEqual(`stat-dropped of frame ${stats.frame} against frames.jsonl`, stats.dropped, entry.features.dropped);
   }
   if (!(Number(stats.updates) > 0)) fail(`stat-updates is ${stats.updates}: the page drew no frame`);
+  await checkDenseMap(page, stats, options.out);
 
   failures.push(...page.problems);
   page.problems = []; // what the page logs once the run is interrupted is not the page's doing
@@ -298,6 +350,7 @@ async function checkReport(options, deadline) {
   const stats = await waitForSettledStats(page, deadline - Date.now());
   checkMapCounts(stats, options.out);
   checkEqual('stat-run', stats.run, 'finished');
+  await checkDenseMap(page, stats, options.out);
   await checkPictures(page, page.locator('#hoidslam-viewer'), options.screenshot);
   failures.push(...page.problems);
 }

@@ -17,6 +17,7 @@
 #include "hoidslam/core/shipped_dir.h"
 #include "hoidslam/core/stopwatch.h"
 #include "hoidslam/dense/dense_mapper.h"
+#include "hoidslam/dense/display_mesh.h"
 #include "hoidslam/detect/make_detector.h"
 #include "hoidslam/io/atomic_file.h"
 #include "hoidslam/io/settings.h"
@@ -283,9 +284,13 @@ class System::Impl {
     nlohmann::json json = pipeline::RunSummaryJson(summary, "api", run_options_.exclusion.ModeName(),
                                                    detector_ ? detector_->Name() : (given_ ? "given" : "none"),
                                                    run_options_.realtime);
+    std::optional<io::TriangleMesh> dense_display;  // the dense map as the report shows it
     if (dense_) {
-      json["dense"] = dense::DenseSummaryJson(dense_->Build(session_->system().KeyFrameTrajectory(), folder),
-                                              dense_->options());
+      const dense::DenseSummary dense_summary = dense_->Build(session_->system().KeyFrameTrajectory(), folder);
+      json["dense"] = dense::DenseSummaryJson(dense_summary, dense_->options());
+      if (dense_summary.written) {
+        dense_display = dense::ReadMeshForDisplay(folder / "mesh.ply", report::kReportDenseTriangles);
+      }
     }
     json["provenance"] = pipeline::ProvenanceJson(
         {.version = HOIDSLAM_VERSION,
@@ -300,7 +305,7 @@ class System::Impl {
       file.stream() << json.dump(2) << '\n';
       file.Commit();
     }
-    report::WriteRunReport(folder, {}, folder / "report.html");
+    report::WriteRunReport(folder, {}, folder / "report.html", {}, std::move(dense_display));
   }
 
   void SaveMap(const std::filesystem::path& path) {

@@ -26,6 +26,14 @@ constexpr int kJpegQuality = 95;
 constexpr double kStampTolerance = 1e-6;
 constexpr std::size_t kFloorSampleStep = 4;
 
+// Depth (CV_32FC1, metres) as a 16-bit PNG in half-millimetres. Lossless and fast at level 1: on the 3,600-frame
+// loop the keyframes held took 207 MB raw, and the build's peak memory is the volume's plus theirs.
+void EncodeDepth(const cv::Mat& metres, std::vector<unsigned char>& png) {
+  cv::Mat units;
+  metres.convertTo(units, CV_16U, kDepthUnitsPerMetre);
+  cv::imencode(".png", units, png, {cv::IMWRITE_PNG_COMPRESSION, 1});
+}
+
 }  // namespace
 
 DenseMapper::DenseMapper(const DenseOptions& options, const core::CameraIntrinsics& camera)
@@ -54,9 +62,9 @@ void DenseMapper::Stop() {
 }
 
 void DenseMapper::AddKeyFrame(const core::RgbdFrame& frame, const cv::Mat& left_out,
-                              const std::vector<cv::Rect>& people) {
+                              const std::optional<core::Pose>& T_wc, const std::vector<cv::Rect>& people) {
   // Copies: the caller's buffers (a program's own, through the API) may be reused once the frame is tracked.
-  Pending pending{frame.timestamp, frame.rgb.clone(), frame.depth.clone(), left_out.clone(), {}};
+  Pending pending{frame.timestamp, frame.rgb.clone(), frame.depth.clone(), left_out.clone(), T_wc, {}};
   const cv::Rect image(0, 0, frame.depth.cols, frame.depth.rows);
   for (const cv::Rect& box : people) {
     if (const cv::Rect inside = box & image; !inside.empty()) pending.people.push_back(inside);
@@ -72,6 +80,8 @@ void DenseMapper::AddKeyFrame(const core::RgbdFrame& frame, const cv::Mat& left_
 void DenseMapper::TakeKeyFrame(const pipeline::Session& session, const core::RgbdFrame& frame,
                                const pipeline::FrameOutcome& outcome, detect::Detector* detector) {
   if (!outcome.result.keyframe) return;
+  std::optional<core::Pose> T_wc;
+  if (outcome.result.T_cw) T_wc = outcome.result.T_cw->inverse();
   // The session's own detector runs in its thread whenever the mode judges boxes: then only the session asks it.
   const bool session_detects = session.options().exclusion.NeedsDetections() || session.options().exclusion.oracle;
   std::vector<core::Detection> detected;
@@ -84,7 +94,14 @@ void DenseMapper::TakeKeyFrame(const pipeline::Session& session, const core::Rgb
   for (const core::Detection& detection : *boxes) {
     if (detection.label == session.options().exclusion.hoid.person_class) people.push_back(detection.box);
   }
-  AddKeyFrame(frame, session.StaticMapExclusion(frame), people);
+  AddKeyFrame(frame, session.StaticMapExclusion(frame), T_wc, people);
+}
+
+void DenseMapper::FollowPreview(const PreviewOptions& preview, std::function<void(io::TriangleMesh)> show) {
+  const std::lock_guard lock(mutex_);
+  if (stopping_) throw std::logic_error("DenseMapper::FollowPreview after Build");
+  if (preview_) throw std::logic_error("DenseMapper::FollowPreview: already following");
+  preview_ = std::make_unique<DensePreview>(options_, preview, camera_, std::move(show));
 }
 
 void DenseMapper::Work() {
@@ -94,45 +111,52 @@ void DenseMapper::Work() {
     if (queue_.empty()) return;  // stopping, and nothing left
     const Pending pending = std::move(queue_.front());
     queue_.pop_front();
+    DensePreview* preview = pending.T_wc ? preview_.get() : nullptr;
     lock.unlock();
-    Prepared prepared = Prepare(pending);
+    const View view = Fusible(pending);
+    if (preview != nullptr) preview->Add(view.bgr, view.depth, *pending.T_wc);  // shared: neither is changed
+    Prepared prepared = Compress(view);
+    prepared.people = PersonCrops(pending);
     lock.lock();
     prepared_[pending.timestamp] = std::move(prepared);
   }
 }
 
-DenseMapper::Prepared DenseMapper::Prepare(const Pending& pending) const {
-  Prepared prepared;
+DenseMapper::View DenseMapper::Fusible(const Pending& pending) const {
   cv::Mat depth = FusibleDepth(pending.depth, pending.left_out, options_);
-  cv::Mat measured = pending.depth;
   cv::Mat bgr = pending.bgr;
   if (!undistort_x_.empty()) {
     // Depth by its nearest pixel: interpolating across an edge would invent surfaces between foreground and back.
     cv::remap(depth, depth, undistort_x_, undistort_y_, cv::INTER_NEAREST, cv::BORDER_CONSTANT, 0.0);
     cv::remap(bgr, bgr, undistort_x_, undistort_y_, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
-    if (!pending.people.empty()) {
-      cv::remap(measured, measured, undistort_x_, undistort_y_, cv::INTER_NEAREST, cv::BORDER_CONSTANT, 0.0);
-    }
   }
-  // Lossless and fast at level 1: on the 3,600-frame loop the keyframes held took 207 MB raw, and the build's peak
-  // memory is the volume's plus theirs.
-  const auto encode_depth = [](const cv::Mat& metres, std::vector<unsigned char>& png) {
-    cv::Mat units;
-    metres.convertTo(units, CV_16U, kDepthUnitsPerMetre);
-    cv::imencode(".png", units, png, {cv::IMWRITE_PNG_COMPRESSION, 1});
-  };
-  encode_depth(depth, prepared.png);
-  cv::imencode(".jpg", bgr, prepared.jpeg, {cv::IMWRITE_JPEG_QUALITY, kJpegQuality});
-  for (const cv::Rect& box : pending.people) {
-    PersonCrop crop{box, {}};
-    encode_depth(measured(box), crop.png);
-    prepared.people.push_back(std::move(crop));
-  }
+  return {bgr, depth};
+}
+
+DenseMapper::Prepared DenseMapper::Compress(const View& view) {
+  Prepared prepared;
+  EncodeDepth(view.depth, prepared.png);
+  cv::imencode(".jpg", view.bgr, prepared.jpeg, {cv::IMWRITE_JPEG_QUALITY, kJpegQuality});
   return prepared;
+}
+
+std::vector<DenseMapper::PersonCrop> DenseMapper::PersonCrops(const Pending& pending) const {
+  std::vector<PersonCrop> crops;
+  if (pending.people.empty()) return crops;
+  cv::Mat measured = pending.depth;
+  if (!undistort_x_.empty()) {
+    cv::remap(measured, measured, undistort_x_, undistort_y_, cv::INTER_NEAREST, cv::BORDER_CONSTANT, 0.0);
+  }
+  for (const cv::Rect& box : pending.people) {
+    PersonCrop& crop = crops.emplace_back(PersonCrop{box, {}});
+    EncodeDepth(measured(box), crop.png);
+  }
+  return crops;
 }
 
 DenseSummary DenseMapper::Build(const core::Trajectory& keyframes, const std::filesystem::path& folder) {
   Stop();  // every keyframe handed over is prepared once the thread has ended
+  preview_.reset();  // the final map replaces it, and its thread would take cores from the build
   // In a thread of the mapper's own, so that the caller's OpenMP setting stays as it was (UseOneOpenMPThread).
   DenseSummary summary;
   std::exception_ptr failure;

@@ -2,7 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <condition_variable>
 #include <filesystem>
+#include <mutex>
+#include <thread>
+#include <vector>
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
@@ -80,7 +85,7 @@ TEST(DenseMapper, ChecksThePersonBoxesForPeopleTheMapKept) {
   const cv::Rect box(25, 5, 30, 80);
   const auto people_kept = [&](const cv::Mat& left_out) {
     DenseMapper mapper(CoarseOptions(), scene.camera);
-    for (const double t : {1.0, 2.0}) mapper.AddKeyFrame(scene.Frame(t), left_out, {box});
+    for (const double t : {1.0, 2.0}) mapper.AddKeyFrame(scene.Frame(t), left_out, std::nullopt, {box});
     const testing::TempDir dir;
     const DenseSummary summary = mapper.Build({{1.0, core::Pose::Identity()}, {2.0, core::Pose::Identity()}}, dir.path());
     EXPECT_TRUE(summary.people.has_value());
@@ -149,6 +154,50 @@ TEST(DenseMapper, TakesNoKeyFrameAfterTheBuild) {
   const testing::TempDir dir;
   EXPECT_FALSE(mapper.Build({}, dir.path()).written);
   EXPECT_THROW(mapper.AddKeyFrame(scene.Frame(1.0), cv::Mat()), std::logic_error);
+}
+
+TEST(DenseMapper, APreviewGrowsFromTheKeyFramesAtThePosesTrackingGaveThemUntilTheBuild) {
+  const WallScene scene;
+  DenseMapper mapper(CoarseOptions(), scene.camera);
+  std::mutex mutex;
+  std::condition_variable arrived;
+  std::vector<io::TriangleMesh> meshes;
+  PreviewOptions preview;
+  preview.interval_s = 0.02;
+  mapper.FollowPreview(preview, [&](io::TriangleMesh mesh) {
+    {
+      const std::lock_guard lock(mutex);
+      meshes.push_back(std::move(mesh));
+    }
+    arrived.notify_all();
+  });
+  EXPECT_THROW(mapper.FollowPreview(preview, [](io::TriangleMesh) {}), std::logic_error);
+  // A keyframe without a pose stays out of the preview (at the origin it would put a wall at z = 1.5 m); one
+  // tracked 0.3 m forward puts the wall at 1.8 m, and never the person, left out.
+  core::Pose forward = core::Pose::Identity();
+  forward.translation() = Eigen::Vector3d(0.0, 0.0, 0.3);
+  mapper.AddKeyFrame(scene.Frame(1.0), scene.LeftOut());
+  mapper.AddKeyFrame(scene.Frame(2.0), scene.LeftOut(), forward);
+  {
+    std::unique_lock lock(mutex);
+    ASSERT_TRUE(arrived.wait_for(lock, std::chrono::seconds(30), [&] { return !meshes.empty(); }));
+    ASSERT_FALSE(meshes.back().triangles.empty());
+    for (const Eigen::Vector3f& v : meshes.back().vertices) ASSERT_NEAR(v.z(), 1.8F, preview.voxel_size);
+  }
+
+  const testing::TempDir dir;
+  EXPECT_EQ(mapper.Build({{1.0, core::Pose::Identity()}, {2.0, forward}}, dir.path()).keyframes, 2U);
+  std::size_t shown = 0;
+  {
+    const std::lock_guard lock(mutex);
+    shown = meshes.size();
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  {
+    const std::lock_guard lock(mutex);
+    EXPECT_EQ(meshes.size(), shown) << "no preview after the build";
+  }
+  EXPECT_THROW(mapper.FollowPreview(preview, [](io::TriangleMesh) {}), std::logic_error);
 }
 
 TEST(DenseMapper, RefusesBadOptionsBeforeAnyKeyFrame) {

@@ -17,6 +17,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "hoidslam/core/error.h"
+#include "hoidslam/dense/open3d_mesh.h"
 #include "hoidslam/io/atomic_file.h"
 
 // The OpenMP runtime Debian's Open3D is built with, libgomp (declared here rather than by an omp.h: the clang
@@ -78,6 +79,9 @@ struct TsdfVolume::Impl {
   std::shared_ptr<open3d::geometry::PointCloud> Cloud() const {
     return const_cast<integration::ScalableTSDFVolume&>(volume).ExtractPointCloud();
   }
+  std::shared_ptr<open3d::geometry::TriangleMesh> Mesh() const {
+    return const_cast<integration::ScalableTSDFVolume&>(volume).ExtractTriangleMesh();
+  }
 
   integration::ScalableTSDFVolume volume;
   open3d::camera::PinholeCameraIntrinsic intrinsic;
@@ -108,13 +112,16 @@ std::size_t TsdfVolume::MemoryBytes() const {
 }
 
 MeshCounts TsdfVolume::WriteMesh(const std::filesystem::path& path) const {
-  const std::shared_ptr<open3d::geometry::TriangleMesh> mesh =
-      const_cast<integration::ScalableTSDFVolume&>(impl_->volume).ExtractTriangleMesh();
+  const std::shared_ptr<open3d::geometry::TriangleMesh> mesh = impl_->Mesh();
   mesh->ComputeVertexNormals();
   WriteAtomically(path, [&mesh](const std::string& file) {
     return open3d::io::WriteTriangleMesh(file, *mesh, /*write_ascii=*/false, /*compressed=*/false);
   });
   return {mesh->vertices_.size(), mesh->triangles_.size(), mesh->GetSurfaceArea()};
+}
+
+io::TriangleMesh TsdfVolume::Mesh() const {
+  return FromOpen3d(*impl_->Mesh());
 }
 
 std::size_t TsdfVolume::WriteCloud(const std::filesystem::path& path) const {

@@ -18,6 +18,7 @@
 #include "hoidslam/core/camera.h"
 #include "hoidslam/core/pose.h"
 #include "hoidslam/dense/dense_options.h"
+#include "hoidslam/io/ply_file.h"
 
 namespace hoidslam::dense {
 
@@ -56,6 +57,8 @@ class TsdfVolume {
   // atomically; throws InputError naming the file when it cannot be written.
   MeshCounts WriteMesh(const std::filesystem::path& path) const;
   std::size_t WriteCloud(const std::filesystem::path& path) const;
+  // The mesh as it stands (marching cubes), with its vertices' colours: what the live preview shows.
+  io::TriangleMesh Mesh() const;
   // The cloud's points, every `step`-th, with normals: what the floor is looked for in.
   OrientedPoints SamplePoints(std::size_t step) const;
 

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstring>
 #include <optional>
+#include <stdexcept>
 #include <string>
 
 #include <fmt/format.h>
@@ -324,6 +325,17 @@ TriangleMesh ReadGeometry(const fs::path& path, std::string_view text, const Ply
     }
     xyz[axis] = static_cast<std::size_t>(it - vertex->properties.begin());
   }
+  // Where red, green and blue sit, when all three are there as uchar (Open3D's and WritePlyMesh's colours).
+  std::array<std::size_t, 3> rgb{};
+  bool has_rgb = true;
+  for (std::size_t channel = 0; channel < 3; ++channel) {
+    const std::string_view name = std::array{"red", "green", "blue"}[channel];
+    const auto it = std::find_if(vertex->properties.begin(), vertex->properties.end(), [&](const PlyProperty& p) {
+      return p.name == name && !p.list_count && p.type == PlyType::kUint8;
+    });
+    has_rgb = has_rgb && it != vertex->properties.end();
+    rgb[channel] = static_cast<std::size_t>(it - vertex->properties.begin());
+  }
   std::size_t indices = 0;
   if (face != nullptr) {
     const auto it = std::find_if(face->properties.begin(), face->properties.end(),
@@ -354,6 +366,7 @@ TriangleMesh ReadGeometry(const fs::path& path, std::string_view text, const Ply
       left -= element.count * record;
     }
     mesh.vertices.reserve(vertex->count);
+    if (has_rgb) mesh.rgb.reserve(vertex->count);
     if (face != nullptr) mesh.triangles.reserve(face->count);
   }
   PlyValues values(path, body, header.format);
@@ -362,6 +375,7 @@ TriangleMesh ReadGeometry(const fs::path& path, std::string_view text, const Ply
     for (std::size_t i = 0; i < element.count; ++i) {
       values.At(element, i);
       Eigen::Vector3f position = Eigen::Vector3f::Zero();
+      cv::Vec3b colour;
       for (std::size_t p = 0; p < element.properties.size(); ++p) {
         const PlyProperty& property = element.properties[p];
         if (!property.list_count) {
@@ -369,6 +383,7 @@ TriangleMesh ReadGeometry(const fs::path& path, std::string_view text, const Ply
           if (&element != vertex) continue;
           for (std::size_t axis = 0; axis < 3; ++axis) {
             if (p == xyz[axis]) position[static_cast<Eigen::Index>(axis)] = static_cast<float>(value);
+            if (p == rgb[axis]) colour[static_cast<int>(axis)] = static_cast<std::uint8_t>(value);
           }
           continue;
         }
@@ -389,7 +404,10 @@ TriangleMesh ReadGeometry(const fs::path& path, std::string_view text, const Ply
         }
         mesh.triangles.push_back(triangle);
       }
-      if (&element == vertex) mesh.vertices.push_back(position);
+      if (&element == vertex) {
+        mesh.vertices.push_back(position);
+        if (has_rgb) mesh.rgb.push_back(colour);
+      }
     }
   }
   values.ExpectEnd();
@@ -473,15 +491,29 @@ std::vector<ColoredPoint> ReadPly(const fs::path& path) {
 }
 
 void WritePlyMesh(const fs::path& path, const TriangleMesh& mesh, std::string_view comment) {
+  const bool coloured = !mesh.rgb.empty();
+  if (coloured && mesh.rgb.size() != mesh.vertices.size()) {
+    throw std::invalid_argument(fmt::format("WritePlyMesh: {} colours for {} vertices", mesh.rgb.size(),
+                                            mesh.vertices.size()));
+  }
   std::string one_line(comment);
   std::replace_if(one_line.begin(), one_line.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
   AtomicFile file(path);
   std::ostream& out = file.stream();
   out << kBinaryPly << "comment " << one_line << "\n"
       << "element vertex " << mesh.vertices.size() << "\n"
-      << kXyzProperties << "element face " << mesh.triangles.size() << "\n"
+      << kXyzProperties << (coloured ? kColorProperties : "") << "element face " << mesh.triangles.size() << "\n"
       << "property list uchar int vertex_indices\nend_header\n";
-  WriteXyz(out, mesh.vertices);
+  if (coloured) {
+    for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+      std::array<char, kColoredRecordBytes> record{};
+      std::memcpy(record.data(), mesh.vertices[i].data(), sizeof(Eigen::Vector3f));
+      std::memcpy(record.data() + sizeof(Eigen::Vector3f), mesh.rgb[i].val, 3);
+      out.write(record.data(), record.size());
+    }
+  } else {
+    WriteXyz(out, mesh.vertices);
+  }
   for (const Eigen::Vector3i& triangle : mesh.triangles) {
     std::array<char, 1 + 3 * sizeof(std::int32_t)> record{};
     record[0] = 3;

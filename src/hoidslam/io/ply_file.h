@@ -29,15 +29,17 @@ std::vector<ColoredPoint> ReadPly(const std::filesystem::path& path);
 struct TriangleMesh {
   std::vector<Eigen::Vector3f> vertices;   // metres
   std::vector<Eigen::Vector3i> triangles;  // indices into `vertices`, counter-clockwise seen from outside
+  std::vector<cv::Vec3b> rgb;              // each vertex's colour (red, green, blue), or empty: none
 };
 
-// Writes float x y z per vertex and a face list (uchar count, int indices) with the header line
-// "comment <comment>" (one line of text).
+// Writes float x y z (and uchar red green blue when the mesh has colours) per vertex and a face list (uchar count,
+// int indices) with the header line "comment <comment>" (one line of text). Throws std::invalid_argument when the
+// mesh has colours but not one a vertex.
 void WritePlyMesh(const std::filesystem::path& path, const TriangleMesh& mesh, std::string_view comment);
 
 // Reads a triangle mesh: what WritePlyMesh writes, and meshes as Open3D writes them (ascii or binary_little_endian;
-// x y z float or double; other vertex properties such as normals and colours skipped; a face list of any integer
-// types; other elements skipped). Throws InputError naming the file when it cannot be read, is not such a PLY
+// x y z float or double; colours when the vertices have uchar red, green and blue; other vertex properties such as
+// normals skipped; a face list of any integer types; other elements skipped). Throws InputError naming the file when it cannot be read, is not such a PLY
 // file, holds a face that is not a triangle or an index out of range, or holds fewer or more values than its
 // header says.
 TriangleMesh ReadPlyMesh(const std::filesystem::path& path);

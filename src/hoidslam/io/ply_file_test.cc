@@ -2,8 +2,10 @@
 
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -163,7 +165,28 @@ TEST(ReadPlyMesh, ReadsOpen3dMeshesBinaryAndAscii) {
     const TriangleMesh mesh = ReadPlyMesh(dir / name);
     EXPECT_EQ(mesh.vertices, kOpen3dVertices) << name;
     EXPECT_EQ(mesh.triangles, std::vector<Eigen::Vector3i>(1, {0, 1, 2})) << name;
+    EXPECT_EQ(mesh.rgb, (std::vector<cv::Vec3b>{{255, 0, 0}, {0, 255, 0}, {0, 0, 255}})) << name;
   }
+}
+
+TEST(WritePlyMesh, ColoursRoundTripAndMustBeOneAVertex) {
+  testing::TempDir dir;
+  TriangleMesh cube = UnitCube();
+  for (std::size_t i = 0; i < cube.vertices.size(); ++i) {
+    cube.rgb.emplace_back(static_cast<std::uint8_t>(30 * i), 7, static_cast<std::uint8_t>(255 - i));
+  }
+  WritePlyMesh(dir / "cube.ply", cube, "coloured");
+  EXPECT_THAT(::hoidslam::testing::ReadText(dir / "cube.ply"),
+              HasSubstr("property float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n"));
+  const TriangleMesh read = ReadPlyMesh(dir / "cube.ply");
+  EXPECT_EQ(read.vertices, cube.vertices);
+  EXPECT_EQ(read.triangles, cube.triangles);
+  EXPECT_EQ(read.rgb, cube.rgb);
+  WritePlyMesh(dir / "plain.ply", UnitCube(), "plain");
+  EXPECT_TRUE(ReadPlyMesh(dir / "plain.ply").rgb.empty());
+  cube.rgb.pop_back();
+  EXPECT_THROW(WritePlyMesh(dir / "bad.ply", cube, "seven colours"), std::invalid_argument);
+  EXPECT_FALSE(std::filesystem::exists(dir / "bad.ply"));
 }
 
 TEST(ReadPlyMesh, NamesTheFileOfABrokenMesh) {

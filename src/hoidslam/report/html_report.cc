@@ -607,8 +607,8 @@ std::string SnapshotCaption(const Snapshot& snapshot, const FrameRecord* frame, 
   return html;
 }
 
-// The page's embedded data (docs/viewer.md, "The same page in a report"): hello and the main map, whole, as map 0;
-// no frame, so the page shows the map alone. Escaped for a <script> element.
+// The page's embedded data (docs/viewer.md, "The same page in a report"): hello and the main map, whole, as map 0,
+// and the dense map when there is one; no frame, so the page shows the map alone. Escaped for a <script> element.
 std::string ViewerData(const RunReport& report) {
   const RunMap& map = *report.map;
   PointsJson points;
@@ -617,7 +617,7 @@ std::string ViewerData(const RunReport& report) {
   for (std::size_t i = 0; i < map.keyframes.size(); ++i) {
     keyframes.push_back(KeyframeJson(i, 0, map.keyframes[i].T_wc));
   }
-  const json data = {
+  json data = {
       {"hello", HelloJson(report.sequence, report.frames, report.camera, false)},
       {"map",
        {{"full", true},
@@ -625,6 +625,7 @@ std::string ViewerData(const RunReport& report) {
         {"maps", json::array({MapCountsJson(0, map.points.size(), map.keyframes.size())})},
         {"points", std::move(points).ToJson()},
         {"keyframes", std::move(keyframes)}}}};
+  if (report.dense_mesh) data["dense"] = DenseMeshJson(*report.dense_mesh);
   std::string text = data.dump(-1, ' ', false, json::error_handler_t::replace);
   // '<' appears only inside JSON strings, where \u003c means the same: no "</script" or "<!--" can end the element
   // early or change how the browser reads it.
@@ -640,6 +641,11 @@ std::string MapSection(const RunReport& report, const ViewerBundle& viewer) {
       "<p class=\"sub\">The main map as the run wrote it: the {} points of map.ply in their own colours and the {} "
       "keyframes of keyframes.txt as cameras along their path. Drag to turn, right-drag to pan, scroll to zoom.</p>\n",
       report.map->points.size(), report.map->keyframes.size());
+  if (report.dense_mesh) {
+    html += fmt::format("<p class=\"sub\">The dense map of mesh.ply with it, made small enough to show: {} triangles "
+                        "(at most {}). <b>dense map</b> shows or hides it.</p>\n",
+                        report.dense_mesh->triangles.size(), kReportDenseTriangles);
+  }
   return html + "<style>" + viewer.style + "</style>\n<div id=\"hoidslam-viewer\"></div>\n" +
          "<script id=\"hoidslam-data\" type=\"application/json\">" + ViewerData(report) + "</script>\n" +
          "<script>" + viewer.script + "</script>\n</section>\n";
@@ -743,9 +749,10 @@ std::string RenderRunHtml(const RunReport& report, const ViewerBundle& viewer) {
 }
 
 void WriteRunReport(const fs::path& run_folder, const fs::path& groundtruth, const fs::path& out_html,
-                    const fs::path& shown_folder) {
+                    const fs::path& shown_folder, std::optional<io::TriangleMesh> dense_mesh) {
   RunReport report = LoadRunReport(run_folder, groundtruth);
   if (!shown_folder.empty()) report.folder = shown_folder;
+  report.dense_mesh = std::move(dense_mesh);
   const ViewerBundle viewer = LoadViewerBundle(core::WebDir());
   if (!viewer.missing.empty()) spdlog::warn("the report has no 3D view of the map: {}", viewer.missing);
   const std::string html = RenderRunHtml(report, viewer);

@@ -99,6 +99,10 @@ struct RunMap {
   core::Trajectory keyframes;            // keyframes.txt: each keyframe's pose, camera to world
 };
 
+// The most triangles of a dense map the report shows: 16 base64 characters a triangle and 20 a vertex make
+// 100,000 triangles (about 50,000 vertices) some 2.6 MB of page.
+inline constexpr std::size_t kReportDenseTriangles = 100'000;
+
 struct RunReport {
   std::filesystem::path folder;
   // From summary.json.
@@ -124,6 +128,9 @@ struct RunReport {
   std::vector<Snapshot> snapshots;     // by frame; empty without snapshots/
   std::optional<RunMap> map;           // none when the folder has no map.ply or no keyframes.txt
   std::string no_map;                  // then: which file is missing
+  // The dense map (mesh.ply) made small enough to show, at most kReportDenseTriangles; none without one. Not read by
+  // LoadRunReport: making it small takes Open3D (dense::ReadMeshForDisplay), which this module does not link.
+  std::optional<io::TriangleMesh> dense_mesh;
   std::optional<GroundTruthComparison> comparison;  // when ground truth was given and fits the estimate
   std::string not_compared;  // why there is no comparison although ground truth was given (too few matches)
 };
@@ -161,9 +168,10 @@ std::string RenderRunHtml(const RunReport& report, const ViewerBundle& viewer);
 
 // LoadRunReport, RenderRunHtml with the page of core::WebDir(), and the page written to `out_html` complete or not
 // at all. `shown_folder`: the folder the page names, when it is read from a staging folder that will be renamed to
-// it (empty: `run_folder`).
+// it (empty: `run_folder`); `dense_mesh`: the run's dense map made small (RunReport::dense_mesh).
 void WriteRunReport(const std::filesystem::path& run_folder, const std::filesystem::path& groundtruth,
-                    const std::filesystem::path& out_html, const std::filesystem::path& shown_folder = {});
+                    const std::filesystem::path& out_html, const std::filesystem::path& shown_folder = {},
+                    std::optional<io::TriangleMesh> dense_mesh = std::nullopt);
 
 // ---- Building blocks of the bench report ---------------------------------------------------------------------
 

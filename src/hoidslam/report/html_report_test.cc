@@ -1,8 +1,11 @@
 #include "hoidslam/report/html_report.h"
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
+#include <string_view>
+#include <vector>
 
 #include <fmt/format.h>
 #include <gmock/gmock.h>
@@ -388,6 +391,43 @@ TEST(RenderRunHtml, InlinesTheViewersPageWithTheMapOfTheRunFolder) {
   EXPECT_EQ(keyframes[1].at("id"), 1);
   EXPECT_EQ(keyframes[1].at("map"), 0);
   EXPECT_EQ(keyframes[1].at("T_wc"), (nlohmann::json{1, 0, 0, 1.2, 0, 1, 0, 0.2, 0, 0, 1, 1.6, 0, 0, 0, 1}));
+}
+
+TEST(RenderRunHtml, EmbedsTheDenseMapWhenTheCallerGivesIt) {
+  const TempDir scratch;
+  WriteRunFolder(scratch / "run");
+  RunReport report = LoadRunReport(scratch / "run", {});
+  EXPECT_FALSE(report.dense_mesh.has_value()) << "made small by the caller, not read here";
+  const std::string without = RenderRunHtml(report, kViewer);
+  EXPECT_FALSE(EmbeddedData(without).contains("dense"));
+  EXPECT_THAT(without, Not(HasSubstr("dense map")));
+
+  io::TriangleMesh mesh;
+  mesh.vertices = {{0.0F, 0.0F, 1.0F}, {1.0F, 0.0F, 1.0F}, {0.0F, 1.5F, 1.0F}, {1.0F, 1.0F, 2.0F}};
+  mesh.triangles = {{0, 1, 2}, {1, 3, 2}};
+  mesh.rgb = {{255, 0, 0}, {0, 255, 0}, {0, 0, 255}, {1, 2, 3}};
+  report.dense_mesh = mesh;
+  const std::string html = RenderRunHtml(report, kViewer);
+  EXPECT_EQ(report::testing::UnbalancedTags(html), "");
+  EXPECT_THAT(html, HasSubstr("The dense map of mesh.ply with it, made small enough to show: 2 triangles"));
+  const nlohmann::json dense = EmbeddedData(html).at("dense");
+  EXPECT_EQ(dense.at("vertices"), 4);
+  EXPECT_EQ(dense.at("triangles"), 2);
+  // The arrays' bytes as they lie in memory: little-endian float32, uint8 and uint32.
+  const auto bytes = [](const auto& values) {
+    return Base64Encode(std::string_view(reinterpret_cast<const char*>(values.data()),
+                                         values.size() * sizeof(values[0])));
+  };
+  const std::vector<float> positions = {0, 0, 1, 1, 0, 1, 0, 1.5F, 1, 1, 1, 2};
+  const std::vector<std::uint8_t> rgb = {255, 0, 0, 0, 255, 0, 0, 0, 255, 1, 2, 3};
+  const std::vector<std::uint32_t> indices = {0, 1, 2, 1, 3, 2};
+  EXPECT_EQ(dense.at("positions"), bytes(positions));
+  EXPECT_EQ(dense.at("rgb"), bytes(rgb));
+  EXPECT_EQ(dense.at("indices"), bytes(indices));
+
+  mesh.rgb.clear();
+  report.dense_mesh = mesh;
+  EXPECT_EQ(EmbeddedData(RenderRunHtml(report, kViewer)).at("dense").at("rgb"), "");
 }
 
 TEST(RenderRunHtml, EscapesTheEmbeddedDataForItsScriptElement) {

@@ -1,8 +1,25 @@
 #include "hoidslam/report/page_json.h"
 
+#include <bit>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "hoidslam/report/html_report.h"
 #include "hoidslam/version.h"
 
 namespace hoidslam::report {
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "the page reads the arrays as little-endian");
+
+template <typename T>
+std::string Base64Of(const std::vector<T>& values) {
+  return Base64Encode(std::string_view(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T)));
+}
+
+}  // namespace
 
 nlohmann::json PoseJson(const core::Pose& pose) {
   nlohmann::json values = nlohmann::json::array();
@@ -45,6 +62,16 @@ void PointsJson::Add(std::uint64_t id, std::uint32_t map, const Eigen::Vector3d&
 
 nlohmann::json PointsJson::ToJson() && {
   return {{"ids", std::move(ids_)}, {"map", std::move(maps_)}, {"xyz", std::move(xyz_)}, {"rgb", std::move(rgb_)}};
+}
+
+nlohmann::json DenseMeshJson(const io::TriangleMesh& mesh) {
+  static_assert(sizeof(Eigen::Vector3f) == 12 && sizeof(Eigen::Vector3i) == 12 && sizeof(cv::Vec3b) == 3,
+                "the arrays are sent as they lie in memory");
+  return {{"vertices", mesh.vertices.size()},
+          {"triangles", mesh.triangles.size()},
+          {"positions", Base64Of(mesh.vertices)},
+          {"rgb", Base64Of(mesh.rgb)},
+          {"indices", Base64Of(mesh.triangles)}};
 }
 
 }  // namespace hoidslam::report

@@ -15,6 +15,7 @@
 
 #include "hoidslam/core/camera.h"
 #include "hoidslam/core/pose.h"
+#include "hoidslam/io/ply_file.h"
 
 namespace hoidslam::report {
 
@@ -34,6 +35,12 @@ nlohmann::json KeyframeJson(std::uint64_t id, std::uint32_t map, const core::Pos
 
 // One of a map message's `maps`: a map and its counts.
 nlohmann::json MapCountsJson(std::uint32_t map, std::size_t points, std::size_t keyframes);
+
+// A dense mesh as the page takes it (the live `dense` message, the report's embedded `dense`): its counts, and its
+// arrays as base64 of their little-endian bytes — 20 characters a vertex and 16 a triangle, where numbers as JSON
+// text take several times that: `positions` (float32 x y z a vertex, metres, world frame), `rgb` (uint8 red green
+// blue a vertex; "" for a mesh without colours) and `indices` (uint32, three a triangle).
+nlohmann::json DenseMeshJson(const io::TriangleMesh& mesh);
 
 // A map message's `points` (ids, map, xyz to 0.1 mm, rgb), one point at a time.
 class PointsJson {

@@ -123,6 +123,16 @@ class Viewer::Impl {
     UpdateMap(atlas, main_map);
   }
 
+  void ShowDenseMap(const io::TriangleMesh& mesh) {
+    auto json = std::make_shared<const std::string>(report::DenseMeshJson(mesh).dump());
+    {
+      const std::lock_guard lock(mutex_);
+      dense_json_ = std::move(json);
+      ++dense_sequence_;
+    }
+    changed_.notify_all();
+  }
+
   void RunFinished() {
     {
       const std::lock_guard lock(mutex_);
@@ -144,6 +154,7 @@ class Viewer::Impl {
     std::uint64_t frame = 0;     // sequence number of the last frame sent (0: none)
     std::uint64_t revision = 0;  // of the map
     std::uint64_t status = 0;
+    std::uint64_t dense = 0;     // sequence number of the last dense map sent (0: none)
   };
 
   void Route() {
@@ -172,13 +183,15 @@ class Viewer::Impl {
   // closed stream, not a broken one). False ends the connection.
   bool SendNews(Connection& connection, httplib::DataSink& sink) {
     std::shared_ptr<const FrameSnapshot> frame;
+    std::shared_ptr<const std::string> dense;
     double fps = 0.0;
-    std::uint64_t frame_sequence = 0, revision = 0, status_sequence = 0;
+    std::uint64_t frame_sequence = 0, revision = 0, status_sequence = 0, dense_sequence = 0;
     {
       std::unique_lock lock(mutex_);
       changed_.wait_for(lock, 1s, [&] {
         return stopping_ || !connection.greeted || connection.frame != frame_sequence_ ||
-               connection.revision != revision_ || connection.status != status_sequence_;
+               connection.revision != revision_ || connection.status != status_sequence_ ||
+               connection.dense != dense_sequence_;
       });
       if (stopping_) {
         sink.done();
@@ -188,6 +201,8 @@ class Viewer::Impl {
       frame_sequence = frame_sequence_;
       revision = revision_;
       status_sequence = status_sequence_;
+      dense = dense_json_;
+      dense_sequence = dense_sequence_;
     }
     std::string news;
     if (!connection.greeted) {
@@ -198,6 +213,10 @@ class Viewer::Impl {
       const std::lock_guard lock(history_mutex_);
       news += Event("map", history_.EventJsonSince(connection.revision));
       connection.revision = history_.revision();
+    }
+    if (dense && connection.dense != dense_sequence) {
+      news += Event("dense", *dense);
+      connection.dense = dense_sequence;
     }
     if (frame && connection.frame != frame_sequence) {
       news += Event("frame", FrameJson(frame, frame_sequence, fps));
@@ -332,6 +351,8 @@ class Viewer::Impl {
   std::uint64_t revision_ = 0;  // the history's
   std::uint64_t status_sequence_ = 0;
   std::uint64_t frames_sent_ = 0;
+  std::shared_ptr<const std::string> dense_json_;  // the newest dense map's event data, made once for every page
+  std::uint64_t dense_sequence_ = 0;
 
   std::mutex history_mutex_;
   AtlasHistory history_;
@@ -357,6 +378,7 @@ void Viewer::FollowSession(const pipeline::Session& session) {
 void Viewer::FinalMapOf(const pipeline::Session& session) {
   FinalMap(session.system().ViewAtlas(), session.summary().main_map);
 }
+void Viewer::ShowDenseMap(const io::TriangleMesh& mesh) { impl_->ShowDenseMap(mesh); }
 void Viewer::RunFinished() { impl_->RunFinished(); }
 std::uint64_t Viewer::FramesSent() const { return impl_->FramesSent(); }
 

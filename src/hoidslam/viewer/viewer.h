@@ -4,7 +4,7 @@
 // (latest wins: publishing swaps a pointer) and a way to read the map, which the viewer's own thread copies a few
 // times a second; pages are sent what changed by server-sent events. A slow or closed page never holds the run up:
 // each page's connection is served in a thread of the server's pool, and takes the newest there is when it is
-// ready. Tracking never knows the viewer exists.
+// ready. Tracking never knows the viewer exists. A dense map, when the run makes one, is handed over as a mesh.
 
 #include <cstdint>
 #include <filesystem>
@@ -14,6 +14,7 @@
 
 #include "hoidslam/core/camera.h"
 #include "hoidslam/core/shipped_dir.h"
+#include "hoidslam/io/ply_file.h"
 #include "hoidslam/pipeline/playback.h"
 #include "hoidslam/pipeline/session.h"
 #include "hoidslam/slam/system.h"
@@ -65,6 +66,9 @@ class Viewer {
   // writes it (its main map) and must come before the session goes.
   void FollowSession(const pipeline::Session& session);
   void FinalMapOf(const pipeline::Session& session);
+  // The dense map to show with the sparse one (latest wins: a newer mesh replaces it on every page). The mesh is
+  // encoded here, once, and sent to each page as a `dense` event; keep it small (dense::MeshForDisplay).
+  void ShowDenseMap(const io::TriangleMesh& mesh);
   // The run's outputs are written: pages say so.
   void RunFinished();
 

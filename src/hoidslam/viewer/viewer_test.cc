@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "hoidslam/core/error.h"
+#include "hoidslam/report/page_json.h"
 #include "support/temp_dir.h"
 
 namespace hoidslam::viewer {
@@ -101,6 +102,40 @@ TEST(Viewer, ServesThePageAndSendsEachPageTheRunAsItGoes) {
   });
   EXPECT_EQ(after.at("map")["maps"][0]["points"], 2);  // a new page gets the final map whole
   EXPECT_GE(served.viewer->FramesSent(), 2U);
+}
+
+// A square of two triangles at depth `z`, coloured.
+io::TriangleMesh Square(float z) {
+  io::TriangleMesh mesh;
+  mesh.vertices = {{0, 0, z}, {1, 0, z}, {0, 1, z}, {1, 1, z}};
+  mesh.triangles = {{0, 1, 2}, {1, 3, 2}};
+  for (const std::uint8_t grey : {10, 90, 170, 250}) mesh.rgb.emplace_back(grey, 255 - grey, 128);
+  return mesh;
+}
+
+TEST(Viewer, EachPageGetsTheNewestDenseMap) {
+  Served served;
+  httplib::Client client = served.Client();
+  const auto first = ReadEvents(client, [](const auto& latest) { return latest.contains("hello"); });
+  EXPECT_FALSE(first.contains("dense")) << "no dense map before the run shows one";
+
+  io::TriangleMesh two_squares = Square(1.0F);
+  const io::TriangleMesh far = Square(2.0F);
+  two_squares.vertices.insert(two_squares.vertices.end(), far.vertices.begin(), far.vertices.end());
+  two_squares.rgb.insert(two_squares.rgb.end(), far.rgb.begin(), far.rgb.end());
+  for (const Eigen::Vector3i& t : far.triangles) two_squares.triangles.emplace_back(t + Eigen::Vector3i::Constant(4));
+  served.viewer->ShowDenseMap(Square(1.0F));
+  served.viewer->ShowDenseMap(two_squares);  // the newest wins
+  const auto events = ReadEvents(client, [](const auto& latest) { return latest.contains("dense"); });
+  const nlohmann::json& dense = events.at("dense");
+  EXPECT_EQ(dense.at("vertices"), 8);
+  EXPECT_EQ(dense.at("triangles"), 4);
+  EXPECT_EQ(dense.at("positions"), report::DenseMeshJson(two_squares).at("positions"));
+  EXPECT_EQ(dense.at("indices").get<std::string>().size(), 4U * 4 * 3 * 4 / 3);  // base64 of 4 × 3 uint32
+
+  // A page that connects later gets it too, without waiting for anything newer.
+  httplib::Client later = served.Client();
+  EXPECT_EQ(ReadEvents(later, [](const auto& latest) { return latest.contains("dense"); }).at("dense").at("triangles"), 4);
 }
 
 TEST(Viewer, ThePagesControlsPauseStepAndSpeedTheRunAndNonsenseIsRefused) {
