@@ -163,7 +163,11 @@ DenseSummary DenseMapper::Build(const core::Trajectory& keyframes, const std::fi
   std::thread builder([&] {
     UseOneOpenMPThread();
     try {
+      const core::Stopwatch clock;
       summary = Fuse(keyframes, folder);
+      // Once the volume is gone: the check reads the mesh back, and the build's peak memory is the volume's.
+      if (summary.written) summary.people = CheckPeople(keyframes, folder);
+      summary.seconds = clock.ElapsedSeconds();
     } catch (...) {
       failure = std::current_exception();
     }
@@ -174,7 +178,6 @@ DenseSummary DenseMapper::Build(const core::Trajectory& keyframes, const std::fi
 }
 
 DenseSummary DenseMapper::Fuse(const core::Trajectory& keyframes, const std::filesystem::path& folder) const {
-  const core::Stopwatch clock;
   DenseSummary summary;
   for (const auto& [stamp, prepared] : prepared_) {
     std::size_t bytes = prepared.png.size() + prepared.jpeg.size();
@@ -206,7 +209,6 @@ DenseSummary DenseMapper::Fuse(const core::Trajectory& keyframes, const std::fil
   if (summary.volume_blocks == 0) {
     // No keyframe, or nothing in any of them the sensor model trusts: no surface, so no file rather than empty ones.
     spdlog::warn("dense: nothing to fuse ({} keyframes with images); no dense outputs", summary.keyframes);
-    summary.seconds = clock.ElapsedSeconds();
     return summary;
   }
   summary.mesh = volume.WriteMesh(folder / "mesh.ply");
@@ -218,8 +220,6 @@ DenseSummary DenseMapper::Fuse(const core::Trajectory& keyframes, const std::fil
   summary.floor_found = floor.found;
   WriteOccupancyGrid(occupancy.Project(floor.T_fw), folder / "occupancy.pgm", folder / "occupancy.yaml");
   summary.written = true;
-  summary.people = CheckPeople(keyframes, folder);
-  summary.seconds = clock.ElapsedSeconds();
   return summary;
 }
 

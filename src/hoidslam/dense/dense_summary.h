@@ -34,7 +34,7 @@ struct DenseSummary {
   // The people the map kept: in the fused keyframes' person boxes, the share of the person's pixels where the map
   // has surface (eval/person_surface.h); none when no keyframe had a person box.
   std::optional<eval::PersonSurface> people;
-  double seconds = 0.0;         // the whole build: fusion and writing the outputs
+  double seconds = 0.0;         // the whole build: fusion, writing the outputs and the people check
 };
 
 // summary.json's "dense" object: the counts, the median fusion time a keyframe, and the options.
