@@ -34,6 +34,12 @@ void EncodeDepth(const cv::Mat& metres, std::vector<unsigned char>& png) {
   cv::imencode(".png", units, png, {cv::IMWRITE_PNG_COMPRESSION, 1});
 }
 
+cv::Mat DecodeDepth(const std::vector<unsigned char>& png) {
+  cv::Mat metres;
+  cv::imdecode(png, cv::IMREAD_UNCHANGED).convertTo(metres, CV_32F, 1.0 / kDepthUnitsPerMetre);
+  return metres;
+}
+
 }  // namespace
 
 DenseMapper::DenseMapper(const DenseOptions& options, const core::CameraIntrinsics& camera)
@@ -177,6 +183,12 @@ DenseSummary DenseMapper::Build(const core::Trajectory& keyframes, const std::fi
   return summary;
 }
 
+const DenseMapper::Prepared* DenseMapper::Held(double timestamp) const {
+  const auto found = prepared_.lower_bound(timestamp - kStampTolerance);
+  if (found == prepared_.end() || found->first > timestamp + kStampTolerance) return nullptr;
+  return &found->second;
+}
+
 DenseSummary DenseMapper::Fuse(const core::Trajectory& keyframes, const std::filesystem::path& folder) const {
   DenseSummary summary;
   for (const auto& [stamp, prepared] : prepared_) {
@@ -188,15 +200,13 @@ DenseSummary DenseMapper::Fuse(const core::Trajectory& keyframes, const std::fil
   OccupancyMap occupancy(options_.occupancy);
   std::optional<core::Pose> first_T_wc;
   for (const core::StampedPose& keyframe : keyframes) {
-    const auto found = prepared_.lower_bound(keyframe.timestamp - kStampTolerance);
-    if (found == prepared_.end() || found->first > keyframe.timestamp + kStampTolerance) {
+    const Prepared* prepared = Held(keyframe.timestamp);
+    if (prepared == nullptr) {
       ++summary.keyframes_without_images;
       continue;
     }
-    const Prepared& prepared = found->second;
-    cv::Mat depth;
-    cv::imdecode(prepared.png, cv::IMREAD_UNCHANGED).convertTo(depth, CV_32F, 1.0 / kDepthUnitsPerMetre);
-    const cv::Mat bgr = cv::imdecode(prepared.jpeg, cv::IMREAD_COLOR);
+    const cv::Mat depth = DecodeDepth(prepared->png);
+    const cv::Mat bgr = cv::imdecode(prepared->jpeg, cv::IMREAD_COLOR);
     const core::Stopwatch fuse;
     volume.Integrate(bgr, depth, keyframe.T_wc);
     occupancy.InsertDepth(depth, camera_, keyframe.T_wc);
@@ -227,13 +237,9 @@ std::optional<eval::PersonSurface> DenseMapper::CheckPeople(const core::Trajecto
                                                             const std::filesystem::path& folder) const {
   std::vector<eval::PersonView> views;
   for (const core::StampedPose& keyframe : keyframes) {
-    const auto found = prepared_.lower_bound(keyframe.timestamp - kStampTolerance);
-    if (found == prepared_.end() || found->first > keyframe.timestamp + kStampTolerance) continue;
-    for (const PersonCrop& crop : found->second.people) {
-      cv::Mat depth;
-      cv::imdecode(crop.png, cv::IMREAD_UNCHANGED).convertTo(depth, CV_32F, 1.0 / kDepthUnitsPerMetre);
-      views.push_back({keyframe.T_wc, crop.box, depth});
-    }
+    const Prepared* prepared = Held(keyframe.timestamp);
+    if (prepared == nullptr) continue;
+    for (const PersonCrop& crop : prepared->people) views.push_back({keyframe.T_wc, crop.box, DecodeDepth(crop.png)});
   }
   if (views.empty()) return std::nullopt;
   return eval::MeasurePersonSurface(io::ReadPlyMesh(folder / "mesh.ply").vertices, options_.voxel_size, views,

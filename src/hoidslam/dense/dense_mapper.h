@@ -90,6 +90,8 @@ class DenseMapper {
   };
   void Work();
   void Stop();
+  // The keyframe prepared at `timestamp` (within a microsecond), or null: none was handed over.
+  const Prepared* Held(double timestamp) const;
   DenseSummary Fuse(const core::Trajectory& keyframes, const std::filesystem::path& folder) const;
   View Fusible(const Pending& pending) const;
   static Prepared Compress(const View& view);

@@ -427,6 +427,14 @@ constexpr std::string_view kXyzProperties = "property float x\nproperty float y\
 constexpr std::size_t kColoredRecordBytes = 15;
 constexpr std::string_view kColorProperties = "property uchar red\nproperty uchar green\nproperty uchar blue\n";
 
+// One vertex in that layout.
+void WriteColoredVertex(std::ostream& out, const Eigen::Vector3f& position, const cv::Vec3b& rgb) {
+  std::array<char, kColoredRecordBytes> record{};
+  std::memcpy(record.data(), position.data(), sizeof(Eigen::Vector3f));
+  std::memcpy(record.data() + sizeof(Eigen::Vector3f), rgb.val, 3);
+  out.write(record.data(), record.size());
+}
+
 void WriteXyz(std::ostream& out, std::span<const Eigen::Vector3f> points) {
   out.write(reinterpret_cast<const char*>(points.data()),
             static_cast<std::streamsize>(points.size() * sizeof(Eigen::Vector3f)));
@@ -441,14 +449,7 @@ void WritePly(const fs::path& path, std::span<const ColoredPoint> points) {
       << "element vertex " << points.size() << "\n"
       << kXyzProperties << kColorProperties << "end_header\n";
   for (const ColoredPoint& p : points) {
-    std::array<char, kColoredRecordBytes> record{};
-    const float xyz[3] = {static_cast<float>(p.position.x()), static_cast<float>(p.position.y()),
-                          static_cast<float>(p.position.z())};
-    std::memcpy(record.data(), xyz, sizeof(xyz));
-    record[12] = static_cast<char>(p.bgr[2]);
-    record[13] = static_cast<char>(p.bgr[1]);
-    record[14] = static_cast<char>(p.bgr[0]);
-    out.write(record.data(), record.size());
+    WriteColoredVertex(out, p.position.cast<float>(), cv::Vec3b(p.bgr[2], p.bgr[1], p.bgr[0]));
   }
   file.Commit();
 }
@@ -505,12 +506,7 @@ void WritePlyMesh(const fs::path& path, const TriangleMesh& mesh, std::string_vi
       << kXyzProperties << (coloured ? kColorProperties : "") << "element face " << mesh.triangles.size() << "\n"
       << "property list uchar int vertex_indices\nend_header\n";
   if (coloured) {
-    for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
-      std::array<char, kColoredRecordBytes> record{};
-      std::memcpy(record.data(), mesh.vertices[i].data(), sizeof(Eigen::Vector3f));
-      std::memcpy(record.data() + sizeof(Eigen::Vector3f), mesh.rgb[i].val, 3);
-      out.write(record.data(), record.size());
-    }
+    for (std::size_t i = 0; i < mesh.vertices.size(); ++i) WriteColoredVertex(out, mesh.vertices[i], mesh.rgb[i]);
   } else {
     WriteXyz(out, mesh.vertices);
   }
