@@ -120,7 +120,9 @@ void DenseMapper::Work() {
     DensePreview* preview = pending.T_wc ? preview_.get() : nullptr;
     lock.unlock();
     const View view = Fusible(pending);
-    if (preview != nullptr) preview->Add(view.bgr, view.depth, *pending.T_wc);  // shared: neither is changed
+    // The preview gets copies of its own: OpenCV counts a shared image's owners in its library, where the thread
+    // sanitizer cannot see it, and the last owner of a shared image could free it while the other thread reads.
+    if (preview != nullptr) preview->Add(view.bgr.clone(), view.depth.clone(), *pending.T_wc);
     Prepared prepared = Compress(view);
     prepared.people = PersonCrops(pending);
     lock.lock();
