@@ -89,7 +89,7 @@ TEST(CliDense, TheViewerAndTheReportShowTheDenseMap) {
   EXPECT_THAT(report.out, HasSubstr("report test passed"));
 }
 
-TEST(CliDense, ModeNoneIsCheckedForPeopleInTheBoxesOfTheSequencesDetections) {
+TEST(CliDense, ModeNoneIsCheckedForPeopleInTheBoxesOfTheSequencesDetectionsAndKeepsWhatWasSeenThroughWhenAsked) {
   // Mode none judges no boxes, yet the sequence's detections.jsonl gives its keyframes theirs for the check, and the
   // people it fused are found there (the people come in at frame 98). How the filter's maps fare: DenseMapper's
   // tests and bench --dense.
@@ -104,6 +104,17 @@ TEST(CliDense, ModeNoneIsCheckedForPeopleInTheBoxesOfTheSequencesDetections) {
   ASSERT_TRUE(people.is_object());
   EXPECT_GT(people.at("boxes").get<std::size_t>(), 0U);
   EXPECT_GT(people.at("share").get<double>(), 0.3);
+  // Where later keyframes saw through a person fused earlier, the person is left out of the mesh, and kept when asked.
+  EXPECT_GT(Summary(run).at("dense").at("mesh").at("seen_through_vertices").get<std::size_t>(), 0U);
+
+  const fs::path kept = scratch / "kept";
+  const RunResult keeping = RunHoidslam(scratch, {"run", sequence.string(), "--dense", "--filter", "none",
+                                                  "--dense-keep-seen-through", "--out", kept.string()});
+  ASSERT_EQ(keeping.exit_status, 0) << keeping.err;
+  const nlohmann::json dense = Summary(kept).at("dense");
+  EXPECT_EQ(dense.at("options").at("keep_seen_through"), true);
+  EXPECT_EQ(dense.at("mesh").at("seen_through_vertices"), 0);
+  EXPECT_GT(dense.at("people").at("share").get<double>(), people.at("share").get<double>());
 }
 
 TEST(CliDense, BadOptionsAreRefusedBeforeTheRun) {

@@ -573,6 +573,11 @@ void AddRunCommand(CLI::App& app) {
                       "With --dense: pixels the regions the filter drops grow by before fusion")
       ->capture_default_str()
       ->needs(dense);
+  command->add_flag("--dense-keep-seen-through", args->dense_options.keep_seen_through,
+                    "With --dense: keep surface that later keyframes looked through (by default the mesh and the "
+                    "cloud leave out what lies in cells the occupancy map calls free: a person the filter missed in "
+                    "a few keyframes, a chair moved away)")
+      ->needs(dense);
   command->add_option("--dense-memory-mb", args->dense_options.memory_limit_mb,
                       "With --dense: memory the volume may take, MiB; a voxel size that would need more for a room is "
                       "refused before the run (0: half of this machine's memory)")

@@ -14,6 +14,7 @@
 #include "hoidslam/dense/floor.h"
 #include "hoidslam/dense/fusible_depth.h"
 #include "hoidslam/dense/occupancy.h"
+#include "hoidslam/dense/static_world.h"
 #include "hoidslam/io/ply_file.h"
 
 namespace hoidslam::dense {
@@ -198,8 +199,7 @@ DenseSummary DenseMapper::Fuse(const core::Trajectory& keyframes, const std::fil
     for (const PersonCrop& crop : prepared.people) bytes += crop.png.size();
     summary.held_megabytes += static_cast<double>(bytes) / (1024.0 * 1024.0);
   }
-  TsdfVolume volume(options_, camera_);
-  OccupancyMap occupancy(options_.occupancy);
+  StaticWorld world(options_, camera_);
   std::optional<core::Pose> first_T_wc;
   for (const core::StampedPose& keyframe : keyframes) {
     const Prepared* prepared = Held(keyframe.timestamp);
@@ -210,27 +210,26 @@ DenseSummary DenseMapper::Fuse(const core::Trajectory& keyframes, const std::fil
     const cv::Mat depth = DecodeDepth(prepared->png);
     const cv::Mat bgr = cv::imdecode(prepared->jpeg, cv::IMREAD_COLOR);
     const core::Stopwatch fuse;
-    volume.Integrate(bgr, depth, keyframe.T_wc);
-    occupancy.InsertDepth(depth, camera_, keyframe.T_wc);
+    world.Fuse(bgr, depth, keyframe.T_wc);
     summary.fuse_ms.push_back(fuse.ElapsedMilliseconds());
     if (!first_T_wc) first_T_wc = keyframe.T_wc;
     ++summary.keyframes;
   }
-  summary.volume_blocks = volume.Blocks();
-  summary.volume_megabytes = static_cast<double>(volume.MemoryBytes()) / (1024.0 * 1024.0);
+  summary.volume_blocks = world.volume().Blocks();
+  summary.volume_megabytes = static_cast<double>(world.volume().MemoryBytes()) / (1024.0 * 1024.0);
   if (summary.volume_blocks == 0) {
     // No keyframe, or nothing in any of them the sensor model trusts: no surface, so no file rather than empty ones.
     spdlog::warn("dense: nothing to fuse ({} keyframes with images); no dense outputs", summary.keyframes);
     return summary;
   }
-  summary.mesh = volume.WriteMesh(folder / "mesh.ply");
-  summary.cloud_points = volume.WriteCloud(folder / "cloud.ply");
-  occupancy.WriteBinary(folder / "occupancy.bt");
-  summary.occupied_cells = occupancy.OccupiedLeaves();
+  summary.mesh = world.WriteMesh(folder / "mesh.ply");
+  summary.cloud_points = world.WriteCloud(folder / "cloud.ply");
+  world.occupancy().WriteBinary(folder / "occupancy.bt");
+  summary.occupied_cells = world.occupancy().OccupiedLeaves();
   const FloorFrame floor =
-      EstimateFloor(volume.SamplePoints(kFloorSampleStep), first_T_wc.value_or(core::Pose::Identity()));
+      EstimateFloor(world.volume().SamplePoints(kFloorSampleStep), first_T_wc.value_or(core::Pose::Identity()));
   summary.floor_found = floor.found;
-  WriteOccupancyGrid(occupancy.Project(floor.T_fw), folder / "occupancy.pgm", folder / "occupancy.yaml");
+  WriteOccupancyGrid(world.occupancy().Project(floor.T_fw), folder / "occupancy.pgm", folder / "occupancy.yaml");
   summary.written = true;
   return summary;
 }

@@ -44,6 +44,11 @@ struct DenseOptions {
   // How much memory the volume may take, MiB; a voxel size whose volume for a room would exceed it is refused
   // before the run (--dense-memory-mb). 0: half of the machine's memory.
   std::size_t memory_limit_mb = 0;
+  // A surface that later keyframes looked through was not static: a person the filter missed in a few keyframes,
+  // a chair moved away. The volume keeps it (a view changes only the voxels near the surface it measures); the
+  // occupancy map's rays cross its cells and call them free. By default the mesh and the cloud leave out what lies
+  // in free cells; true keeps it (--dense-keep-seen-through).
+  bool keep_seen_through = false;
   OccupancyOptions occupancy;
 
   // The surface a volume must hold to be worth building: an office of 5 × 5 × 3 m has 110 m².

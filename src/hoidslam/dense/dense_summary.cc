@@ -22,7 +22,11 @@ nlohmann::json DenseSummaryJson(const DenseSummary& summary, const DenseOptions&
       {"written", summary.written},
       {"keyframes", summary.keyframes},
       {"keyframes_without_images", summary.keyframes_without_images},
-      {"mesh", {{"vertices", summary.mesh.vertices}, {"triangles", summary.mesh.triangles}, {"area_m2", summary.mesh.area}}},
+      {"mesh",
+       {{"vertices", summary.mesh.vertices},
+        {"triangles", summary.mesh.triangles},
+        {"area_m2", summary.mesh.area},
+        {"seen_through_vertices", summary.mesh.left_out}}},
       {"cloud_points", summary.cloud_points},
       {"occupied_cells", summary.occupied_cells},
       {"floor_found", summary.floor_found},
@@ -37,6 +41,7 @@ nlohmann::json DenseSummaryJson(const DenseSummary& summary, const DenseOptions&
         {"min_depth", options.min_depth},
         {"max_depth", options.max_depth},
         {"mask_margin", options.mask_margin},
+        {"keep_seen_through", options.keep_seen_through},
         {"occupancy_resolution", options.occupancy.resolution},
         {"occupancy_band", {options.occupancy.band_low, options.occupancy.band_high}}}},
       {"people", nullptr},
@@ -55,6 +60,9 @@ std::string FormatDenseSummary(const DenseSummary& summary, const DenseOptions& 
       summary.keyframes, summary.seconds, Median(summary.fuse_ms), summary.mesh.vertices, summary.mesh.area,
       options.voxel_size, summary.cloud_points, summary.occupied_cells, options.occupancy.resolution,
       summary.floor_found ? "the 2D grid on the floor found" : "no floor in view: the 2D grid on the first camera's up");
+  if (summary.mesh.left_out > 0) {
+    line += fmt::format("; {} mesh vertices left out where later keyframes saw through", summary.mesh.left_out);
+  }
   if (summary.people) {
     line += fmt::format("; people kept: {:.1f} % of the person pixels in {} boxes of the keyframes",
                         100.0 * summary.people->Share(), summary.people->boxes);

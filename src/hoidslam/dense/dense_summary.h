@@ -30,7 +30,7 @@ struct DenseSummary {
   std::size_t volume_blocks = 0;
   double volume_megabytes = 0.0;
   double held_megabytes = 0.0;  // the keyframes' prepared images, compressed, held until the build
-  std::vector<double> fuse_ms;  // per keyframe: the volume's integration and the occupancy's rays
+  std::vector<double> fuse_ms;  // per keyframe: the volume's integration and the occupancy's rays, side by side
   // The people the map kept: in the fused keyframes' person boxes, the share of the person's pixels where the map
   // has surface (eval/person_surface.h); none when no keyframe had a person box.
   std::optional<eval::PersonSurface> people;

@@ -1,7 +1,7 @@
-// A keyframe's fusion, as DenseMapper::Build does it for each final keyframe: the volume's integration (1 cm voxels,
-// 4 cm truncation, Open3D on one OpenMP thread) and the occupancy map's rays (5 cm), of a real 640×480 TUM
-// fr3/walking_xyz frame cut to the default depth range — into an empty volume and into one that already holds the
-// view. Target (docs/dense.md): ≤ 30 ms a keyframe, median.
+// A keyframe's fusion, as DenseMapper::Build does it for each final keyframe (StaticWorld::Fuse): the volume's
+// integration (1 cm voxels, 4 cm truncation, Open3D on one OpenMP thread) and, in a second thread at the same time,
+// the occupancy map's rays (5 cm), of a real 640×480 TUM fr3/walking_xyz frame cut to the default depth range —
+// into an empty volume and into one that already holds the view. Target (docs/dense.md): ≤ 30 ms a keyframe, median.
 // Run: dense_bench --benchmark_filter=Fuse --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 #include <filesystem>
 #include <memory>
@@ -11,7 +11,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "hoidslam/dense/fusible_depth.h"
-#include "hoidslam/dense/occupancy.h"
+#include "hoidslam/dense/static_world.h"
 #include "hoidslam/dense/tsdf_volume.h"
 #include "support/shared_data.h"
 
@@ -39,23 +39,17 @@ void BM_FuseKeyframe(benchmark::State& state, bool known_space) {
   const Keyframe keyframe = RealKeyframe();
   const DenseOptions options;
   const core::CameraIntrinsics camera;  // TUM fr3
-  auto volume = std::make_unique<TsdfVolume>(options, camera);
-  auto occupancy = std::make_unique<OccupancyMap>(options.occupancy);
-  if (known_space) {
-    volume->Integrate(keyframe.bgr, keyframe.depth, core::Pose::Identity());
-    occupancy->InsertDepth(keyframe.depth, camera, core::Pose::Identity());
-  }
+  auto world = std::make_unique<StaticWorld>(options, camera);
+  if (known_space) world->Fuse(keyframe.bgr, keyframe.depth, core::Pose::Identity());
   for (auto _ : state) {
     if (!known_space) {
       state.PauseTiming();
-      volume = std::make_unique<TsdfVolume>(options, camera);
-      occupancy = std::make_unique<OccupancyMap>(options.occupancy);
+      world = std::make_unique<StaticWorld>(options, camera);
       state.ResumeTiming();
     }
-    volume->Integrate(keyframe.bgr, keyframe.depth, core::Pose::Identity());
-    occupancy->InsertDepth(keyframe.depth, camera, core::Pose::Identity());
+    world->Fuse(keyframe.bgr, keyframe.depth, core::Pose::Identity());
   }
-  state.counters["blocks"] = static_cast<double>(volume->Blocks());
+  state.counters["blocks"] = static_cast<double>(world->volume().Blocks());
 }
 BENCHMARK_CAPTURE(BM_FuseKeyframe, empty_volume, false)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_FuseKeyframe, known_space, true)->Unit(benchmark::kMillisecond);

@@ -5,6 +5,7 @@
 #include <mutex>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <open3d/camera/PinholeCameraIntrinsic.h>
 #include <open3d/geometry/Image.h>
@@ -111,21 +112,38 @@ std::size_t TsdfVolume::MemoryBytes() const {
   return Blocks() * kBlockVoxels * kBlockVoxels * kBlockVoxels * kVoxelBytes;
 }
 
-MeshCounts TsdfVolume::WriteMesh(const std::filesystem::path& path) const {
+MeshCounts TsdfVolume::WriteMesh(const std::filesystem::path& path, const PointFilter& leave_out) const {
   const std::shared_ptr<open3d::geometry::TriangleMesh> mesh = impl_->Mesh();
+  std::size_t left_out = 0;
+  if (leave_out) {
+    std::vector<bool> out(mesh->vertices_.size());
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      out[i] = leave_out(mesh->vertices_[i]);
+      left_out += out[i] ? 1 : 0;
+    }
+    if (left_out > 0) mesh->RemoveVerticesByMask(out);
+  }
   mesh->ComputeVertexNormals();
   WriteAtomically(path, [&mesh](const std::string& file) {
     return open3d::io::WriteTriangleMesh(file, *mesh, /*write_ascii=*/false, /*compressed=*/false);
   });
-  return {mesh->vertices_.size(), mesh->triangles_.size(), mesh->GetSurfaceArea()};
+  return {mesh->vertices_.size(), mesh->triangles_.size(), mesh->GetSurfaceArea(), left_out};
 }
 
 io::TriangleMesh TsdfVolume::Mesh() const {
   return FromOpen3d(*impl_->Mesh());
 }
 
-std::size_t TsdfVolume::WriteCloud(const std::filesystem::path& path) const {
-  const std::shared_ptr<open3d::geometry::PointCloud> cloud = impl_->Cloud();
+std::size_t TsdfVolume::WriteCloud(const std::filesystem::path& path, const PointFilter& leave_out) const {
+  std::shared_ptr<open3d::geometry::PointCloud> cloud = impl_->Cloud();
+  if (leave_out) {
+    std::vector<std::size_t> kept;
+    kept.reserve(cloud->points_.size());
+    for (std::size_t i = 0; i < cloud->points_.size(); ++i) {
+      if (!leave_out(cloud->points_[i])) kept.push_back(i);
+    }
+    if (kept.size() < cloud->points_.size()) cloud = cloud->SelectByIndex(kept);
+  }
   WriteAtomically(path, [&cloud](const std::string& file) {
     return open3d::io::WritePointCloud(file, *cloud, {open3d::io::WritePointCloudOption::IsAscii::Binary});
   });

@@ -9,6 +9,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -25,8 +26,12 @@ namespace hoidslam::dense {
 struct MeshCounts {
   std::size_t vertices = 0;
   std::size_t triangles = 0;
-  double area = 0.0;  // m²
+  double area = 0.0;         // m²
+  std::size_t left_out = 0;  // vertices a PointFilter left out, with their triangles
 };
+
+// Says of a point of the surface (world) whether to leave it out of what is written.
+using PointFilter = std::function<bool(const Eigen::Vector3d& p_w)>;
 
 // Points of the surface with their normals (unit, pointing out of the surface towards where the cameras were).
 struct OrientedPoints {
@@ -54,9 +59,10 @@ class TsdfVolume {
   std::size_t MemoryBytes() const;  // what they take
 
   // Writes the mesh (binary PLY, vertex colours and normals) / the points at the voxels' zero crossings, each
-  // atomically; throws InputError naming the file when it cannot be written.
-  MeshCounts WriteMesh(const std::filesystem::path& path) const;
-  std::size_t WriteCloud(const std::filesystem::path& path) const;
+  // atomically, without the vertices (and their triangles) / points `leave_out` names (none: all); throws
+  // InputError naming the file when it cannot be written.
+  MeshCounts WriteMesh(const std::filesystem::path& path, const PointFilter& leave_out = {}) const;
+  std::size_t WriteCloud(const std::filesystem::path& path, const PointFilter& leave_out = {}) const;
   // The mesh as it stands (marching cubes), with its vertices' colours: what the live preview shows.
   io::TriangleMesh Mesh() const;
   // The cloud's points, every `step`-th, with normals: what the floor is looked for in.

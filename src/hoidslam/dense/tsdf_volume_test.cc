@@ -83,6 +83,37 @@ TEST(TsdfVolume, DepthLeftOutIsNotFused) {
   for (const Eigen::Vector3d& p : cloud.points_) ASSERT_LT(p.x(), 0.1) << "nothing right of the image centre";
 }
 
+TEST(TsdfVolume, WhatTheFilterNamesIsLeftOutOfTheMeshAndTheCloud) {
+  const core::CameraIntrinsics camera = SmallCamera();
+  TsdfVolume volume(CoarseOptions(), camera);
+  const cv::Mat grey(camera.height, camera.width, CV_8UC3, cv::Scalar(128, 128, 128));
+  volume.Integrate(grey, WallDepth(camera, core::Pose::Identity(), 1.5), core::Pose::Identity());
+  const testing::TempDir dir;
+  const MeshCounts whole = volume.WriteMesh(dir / "whole.ply");
+  const std::size_t whole_points = volume.WriteCloud(dir / "whole_cloud.ply");
+  const PointFilter right_half = [](const Eigen::Vector3d& p_w) { return p_w.x() > 0.0; };
+
+  const MeshCounts left = volume.WriteMesh(dir / "mesh.ply", right_half);
+  EXPECT_GT(left.left_out, 0U);
+  EXPECT_EQ(left.vertices + left.left_out, whole.vertices);
+  EXPECT_LT(left.triangles, whole.triangles);
+  EXPECT_NEAR(left.area, whole.area / 2.0, whole.area * 0.1);
+  const io::TriangleMesh written = io::ReadPlyMesh(dir / "mesh.ply");
+  ASSERT_EQ(written.vertices.size(), left.vertices);
+  for (const Eigen::Vector3f& v : written.vertices) ASSERT_LE(v.x(), 0.0F);
+  for (const Eigen::Vector3i& triangle : written.triangles) {
+    ASSERT_LT(triangle.maxCoeff(), static_cast<int>(written.vertices.size())) << "no triangle keeps a vertex left out";
+  }
+
+  const std::size_t points = volume.WriteCloud(dir / "cloud.ply", right_half);
+  EXPECT_GT(points, 0U);
+  EXPECT_LT(points, whole_points);
+  const open3d::geometry::PointCloud cloud = ReadCloud(dir / "cloud.ply");
+  ASSERT_EQ(cloud.points_.size(), points);
+  ASSERT_TRUE(cloud.HasColors());
+  for (const Eigen::Vector3d& p : cloud.points_) ASSERT_LE(p.x(), 0.0);
+}
+
 TEST(TsdfVolume, RefusesImagesOfAnotherSize) {
   TsdfVolume volume(DenseOptions{}, SmallCamera());
   EXPECT_THROW(volume.Integrate(cv::Mat(10, 10, CV_8UC3), cv::Mat(10, 10, CV_32FC1), core::Pose::Identity()),
