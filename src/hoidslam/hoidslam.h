@@ -127,6 +127,9 @@ struct Dense {
   double max_depth = 3.0;              // m: farther depth is not fused
   double occupancy_resolution = 0.05;  // m
   double band_low = 0.1, band_high = 1.8;  // m above the floor: the 2D grid's obstacles
+  // Keep surface that later keyframes looked through (by default left out of the mesh and the cloud: a person the
+  // filter missed in a few keyframes, a chair moved away; docs/dense.md).
+  bool keep_seen_through = false;
 };
 
 struct Options {

@@ -357,6 +357,7 @@ class System::Impl {
     dense.occupancy.resolution = options.dense->occupancy_resolution;
     dense.occupancy.band_low = options.dense->band_low;
     dense.occupancy.band_high = options.dense->band_high;
+    dense.keep_seen_through = options.dense->keep_seen_through;
     return std::make_unique<dense::DenseMapper>(dense, run_options.system.camera);
   }
 

@@ -288,6 +288,23 @@ TEST(System, SavesARunFolderAndAMapAndResets) {
   EXPECT_THAT(ErrorOf([&] { slam.SaveMap(dir / "no" / "such" / "folder.hmap"); }), HasSubstr("folder.hmap"));
 }
 
+TEST(System, SavesTheDenseMapWithTheOptionsGiven) {
+  HOIDSLAM_SHARED_PATH_OR_SKIP(tum_dir, "data/tum");
+  testing::TempDir dir;
+  const std::vector<core::RgbdFrame> frames = RenderedWalk(dir, tum_dir, 10);
+  Options options = WithFilter("none", kDeterministic);
+  options.dense = Dense{.voxel_size = 0.02, .keep_seen_through = true};
+  System slam(options);
+  for (const core::RgbdFrame& frame : frames) Track(slam, frame.rgb, frame.depth, frame.timestamp);
+  slam.Save(dir / "out");
+  EXPECT_TRUE(fs::exists(dir / "out" / "mesh.ply"));
+  const nlohmann::json dense = nlohmann::json::parse(testing::ReadText(dir / "out" / "summary.json"))["dense"];
+  EXPECT_EQ(dense["options"]["voxel_size"], 0.02);
+  EXPECT_EQ(dense["options"]["truncation"], 0.08);
+  EXPECT_EQ(dense["options"]["keep_seen_through"], true);
+  EXPECT_EQ(dense["mesh"]["seen_through_vertices"], 0);
+}
+
 TEST(System, TakesRgbGreyAndFloatDepthAndPaddedRows) {
   const BlankFrame blank;
   System slam(WithFilter("none", kDeterministic));
