@@ -223,6 +223,10 @@ DenseSummary DenseMapper::Fuse(const core::Trajectory& keyframes, const std::fil
     return summary;
   }
   summary.mesh = world.WriteMesh(folder / "mesh.ply");
+  if (summary.mesh.vertices == 0) {
+    spdlog::warn("dense: later keyframes saw through all of the fused surface; no dense outputs");
+    return summary;
+  }
   summary.cloud_points = world.WriteCloud(folder / "cloud.ply");
   world.occupancy().WriteBinary(folder / "occupancy.bt");
   summary.occupied_cells = world.occupancy().OccupiedLeaves();

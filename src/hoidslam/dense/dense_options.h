@@ -32,7 +32,7 @@ struct DenseOptions {
   double truncation = 0.04;
   // The depth the sensor model trusts, m (--dense-min-depth, --dense-max-depth): beyond 3 m a Kinect-class
   // sensor's noise (core::KinectDepthSigma) exceeds 1.3 voxels of 1 cm, and the volume grows with the square of
-  // the range.
+  // the range. Deeper depth is not fused; its rays still free the occupancy map's cells up to max_depth.
   double min_depth = 0.3;
   double max_depth = 3.0;
   // Pixels the dynamic regions grow by: the colour and depth images of a person's outline disagree by a pixel or

@@ -14,7 +14,8 @@ cv::Mat FusibleDepth(const cv::Mat& depth, const cv::Mat& dropped, const DenseOp
   cv::Mat fused;
   depth.copyTo(fused);
   cv::patchNaNs(fused, 0.0);
-  cv::Mat out_of_range = (fused < options.min_depth) | (fused > options.max_depth);
+  // Beyond max_depth the depth stays: too noisy for a surface, it still says the space before max_depth is free.
+  cv::Mat out_of_range = fused < options.min_depth;
   // A neighbourhood with a missing depth counts as an edge too: holes border on what the sensor could not resolve.
   cv::Mat nearest, farthest;
   cv::Mat missing_as_far;

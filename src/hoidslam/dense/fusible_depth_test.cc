@@ -13,14 +13,15 @@ DenseOptions NoMargin() {
   return options;
 }
 
-TEST(FusibleDepth, KeepsTrustedDepthAndDropsWhatIsOutOfRange) {
+TEST(FusibleDepth, KeepsTrustedAndFarDepthAndDropsWhatIsTooNearOrMissing) {
   cv::Mat depth(20, 20, CV_32FC1, cv::Scalar(2.0F));
   depth.at<float>(5, 5) = 0.1F;                    // nearer than min_depth
-  depth.at<float>(15, 15) = 3.5F;                  // beyond max_depth (3 m): and so an edge for its neighbours
+  depth(cv::Rect(14, 14, 6, 6)).setTo(3.5F);       // beyond max_depth (3 m): kept for the occupancy map's rays
   depth.at<float>(10, 2) = std::nanf("");          // no measurement
   const cv::Mat fused = FusibleDepth(depth, cv::Mat(), NoMargin());
   EXPECT_EQ(fused.at<float>(5, 5), 0.0F);
-  EXPECT_EQ(fused.at<float>(15, 15), 0.0F);
+  EXPECT_EQ(fused.at<float>(17, 17), 3.5F);
+  EXPECT_EQ(fused.at<float>(14, 14), 0.0F);        // the far region's outline is a depth edge
   EXPECT_EQ(fused.at<float>(10, 2), 0.0F);
   EXPECT_EQ(fused.at<float>(0, 19), 2.0F);         // far from every gap
 }

@@ -65,27 +65,48 @@ OccupancyMap::OccupancyMap(const OccupancyOptions& options) {
 
 OccupancyMap::~OccupancyMap() = default;
 
-void OccupancyMap::InsertDepth(const cv::Mat& depth, const core::CameraIntrinsics& camera, const core::Pose& T_wc) {
+void OccupancyMap::InsertDepth(const cv::Mat& depth, const core::CameraIntrinsics& camera, const core::Pose& T_wc,
+                               double max_depth) {
   if (depth.type() != CV_32FC1) {
     throw std::invalid_argument("OccupancyMap::InsertDepth: depth image must be CV_32FC1 (metres)");
   }
   const int step = impl_->options.pixel_step;
-  octomap::Pointcloud cloud;
-  cloud.reserve(static_cast<std::size_t>(((depth.rows + step - 1) / step) * ((depth.cols + step - 1) / step)));
+  octomap::Pointcloud ends;      // rays that end on a surface
+  octomap::Pointcloud far_ends;  // rays cut at max_depth: free space, no surface
+  ends.reserve(static_cast<std::size_t>(((depth.rows + step - 1) / step) * ((depth.cols + step - 1) / step)));
+  const auto push = [&T_wc](octomap::Pointcloud& cloud, const Eigen::Vector3d& p_c) {
+    const Eigen::Vector3d p_w = T_wc * p_c;
+    cloud.push_back(static_cast<float>(p_w.x()), static_cast<float>(p_w.y()), static_cast<float>(p_w.z()));
+  };
   for (int v = 0; v < depth.rows; v += step) {
     const float* row = depth.ptr<float>(v);
     for (int u = 0; u < depth.cols; u += step) {
       const float z = row[u];
       if (!(z > 0.0F) || !std::isfinite(z)) continue;  // 0, NaN or infinite: no ray
-      const Eigen::Vector3d p_w = T_wc * camera.Unproject(u, v, z);
-      cloud.push_back(static_cast<float>(p_w.x()), static_cast<float>(p_w.y()), static_cast<float>(p_w.z()));
+      if (z > max_depth) {
+        push(far_ends, camera.Unproject(u, v, max_depth));
+      } else {
+        push(ends, camera.Unproject(u, v, z));
+      }
     }
   }
   const Eigen::Vector3d origin = T_wc.translation();
-  // One scan: a cell that one ray ends in and another crosses is occupied. With discretize, the rays ending in the
-  // same cell are cast once: a quarter faster on a TUM keyframe at 5 cm (four rays an end cell).
-  impl_->tree.insertPointCloud(cloud, octomap::point3d(origin.x(), origin.y(), origin.z()), /*maxrange=*/-1.0,
-                               /*lazy_eval=*/false, /*discretize=*/true);
+  const octomap::point3d sensor(static_cast<float>(origin.x()), static_cast<float>(origin.y()),
+                                static_cast<float>(origin.z()));
+  // One scan, as OctoMap's insertPointCloud with discretize makes it (the rays that end in the same cell cast once: a
+  // quarter faster on a TUM keyframe at 5 cm), and a cell that one ray ends in and another crosses is occupied. The
+  // cut rays only free: where they stop there is no surface.
+  octomap::OcTree& tree = impl_->tree;
+  octomap::KeySet free_cells, occupied_cells, far_free, far_stops;
+  tree.computeDiscreteUpdate(ends, sensor, free_cells, occupied_cells, /*maxrange=*/-1.0);
+  if (far_ends.size() > 0) {
+    tree.computeDiscreteUpdate(far_ends, sensor, far_free, far_stops, /*maxrange=*/-1.0);
+    free_cells.insert(far_free.begin(), far_free.end());
+  }
+  for (const octomap::OcTreeKey& key : free_cells) {
+    if (occupied_cells.find(key) == occupied_cells.end()) tree.updateNode(key, false);
+  }
+  for (const octomap::OcTreeKey& key : occupied_cells) tree.updateNode(key, true);
 }
 
 std::vector<Eigen::Vector3d> OccupancyMap::OccupiedCentres() const {

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -39,9 +40,12 @@ class OccupancyMap {
   OccupancyMap(const OccupancyMap&) = delete;
   OccupancyMap& operator=(const OccupancyMap&) = delete;
 
-  // Casts the rays of one depth image (CV_32FC1, metres; 0 = no ray: invalid, excluded or beyond the range
-  // the caller trusts) from the camera at T_wc: cells along a ray are free, the cell at its end occupied.
-  void InsertDepth(const cv::Mat& depth, const core::CameraIntrinsics& camera, const core::Pose& T_wc);
+  // Casts the rays of one depth image (CV_32FC1, metres; 0 = no ray: invalid or excluded) from the camera at
+  // T_wc: cells along a ray are free, the cell at its end occupied. A ray deeper than `max_depth` (beyond the
+  // range the caller trusts for surfaces) is cut there and only frees the cells it crosses: the space before a far
+  // wall is free even where the wall itself is too far to map.
+  void InsertDepth(const cv::Mat& depth, const core::CameraIntrinsics& camera, const core::Pose& T_wc,
+                   double max_depth = std::numeric_limits<double>::infinity());
 
   // The centres of the occupied leaves (world), at the finest resolution.
   std::vector<Eigen::Vector3d> OccupiedCentres() const;

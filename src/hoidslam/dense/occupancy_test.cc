@@ -55,6 +55,14 @@ TEST(OccupancyMap, AWallIsOccupiedAtItsDepthFreeBeforeItAndUnknownBehindIt) {
   EXPECT_EQ(map.At({0.0, 0.0, -0.5}), CellState::kUnknown);  // behind the camera
 }
 
+TEST(OccupancyMap, ARayDeeperThanTheMaxDepthFreesTheSpaceBeforeItAndMarksNoSurface) {
+  OccupancyMap map{OccupancyOptions{}};
+  map.InsertDepth(WallDepth(5.0F), core::CameraIntrinsics{}, core::Pose::Identity(), /*max_depth=*/3.0);
+  EXPECT_EQ(map.OccupiedLeaves(), 0U);
+  for (const double z : {0.5, 1.5, 2.9}) EXPECT_EQ(map.At({0.0, 0.0, z}), CellState::kFree) << z;
+  for (const double z : {3.1, 5.0}) EXPECT_EQ(map.At({0.0, 0.0, z}), CellState::kUnknown) << z;
+}
+
 TEST(OccupancyMap, APixelWithoutDepthCastsNoRay) {
   for (const float no_depth : {0.0F, -1.0F, std::numeric_limits<float>::quiet_NaN(),
                                std::numeric_limits<float>::infinity()}) {

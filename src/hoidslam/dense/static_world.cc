@@ -9,7 +9,7 @@ StaticWorld::StaticWorld(const DenseOptions& options, const core::CameraIntrinsi
 
 void StaticWorld::Fuse(const cv::Mat& bgr, const cv::Mat& depth, const core::Pose& T_wc) {
   // Should the volume throw, the future's end still waits for the rays: nothing outlives this call.
-  std::future<void> rays = std::async(std::launch::async, [&] { occupancy_.InsertDepth(depth, camera_, T_wc); });
+  std::future<void> rays = std::async(std::launch::async, [&] { occupancy_.InsertDepth(depth, camera_, T_wc, options_.max_depth); });
   volume_.Integrate(bgr, depth, T_wc);
   rays.get();
 }

@@ -76,6 +76,22 @@ TEST(StaticWorld, SurfaceThatLaterKeyFramesSawThroughIsLeftOutOfTheMeshAndTheClo
   for (const Eigen::Vector3d& p : ReadCloud(dir / "cloud.ply").points_) ASSERT_NEAR(p.z(), kWall, 0.05);
 }
 
+TEST(StaticWorld, AWallTooFarToMapStillShowsThatTheSpaceBeforeItIsFree) {
+  DenseOptions options = EveryPixelARay();
+  options.max_depth = 1.6;  // the person at 1 m is fused, the wall at 2 m is not
+  StaticWorld world(options, SmallCamera());
+  FuseAMissedPerson(world);
+  EXPECT_TRUE(world.SeenThrough({0.0, 0.0, kPerson}));
+  EXPECT_EQ(world.occupancy().At({0.0, 0.0, kWall}), CellState::kUnknown) << "a cut ray marks no surface";
+  const testing::TempDir dir;
+  const MeshCounts counts = world.WriteMesh(dir / "mesh.ply");
+  EXPECT_GT(counts.left_out, 100U);
+  EXPECT_EQ(counts.vertices, 0U) << "nothing was left: the person seen through, the wall beyond the range";
+  EXPECT_EQ(world.WriteCloud(dir / "cloud.ply"), 0U);
+  EXPECT_FALSE(std::filesystem::exists(dir / "mesh.ply")) << "no surface, no file";
+  EXPECT_FALSE(std::filesystem::exists(dir / "cloud.ply"));
+}
+
 TEST(StaticWorld, KeepsWhatWasSeenThroughWhenAsked) {
   DenseOptions options = EveryPixelARay();
   options.keep_seen_through = true;

@@ -75,7 +75,8 @@ struct TsdfVolume::Impl {
   Impl(const DenseOptions& options, const core::CameraIntrinsics& camera)
       : volume(options.voxel_size, options.truncation, integration::TSDFVolumeColorType::RGB8, kBlockVoxels),
         intrinsic(camera.width, camera.height, camera.fx, camera.fy, camera.cx, camera.cy),
-        size(camera.width, camera.height) {}
+        size(camera.width, camera.height),
+        max_depth(options.max_depth) {}
 
   std::shared_ptr<open3d::geometry::PointCloud> Cloud() const {
     return const_cast<integration::ScalableTSDFVolume&>(volume).ExtractPointCloud();
@@ -87,6 +88,7 @@ struct TsdfVolume::Impl {
   integration::ScalableTSDFVolume volume;
   open3d::camera::PinholeCameraIntrinsic intrinsic;
   cv::Size size;
+  double max_depth;
 };
 
 TsdfVolume::TsdfVolume(const DenseOptions& options, const core::CameraIntrinsics& camera)
@@ -100,9 +102,11 @@ void TsdfVolume::Integrate(const cv::Mat& bgr, const cv::Mat& depth, const core:
   }
   cv::Mat rgb;
   cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+  cv::Mat trusted;  // deeper than max_depth: for the occupancy map's free space only
+  cv::threshold(depth, trusted, impl_->max_depth, 0.0, cv::THRESH_TOZERO_INV);
   // Built directly rather than by RGBDImage::CreateFromColorAndDepth, which would turn the colour into intensity
   // (and the coloured volume then refuse it) and the depth into metres once more.
-  const open3d::geometry::RGBDImage view(ImageOf(rgb, 3, 1), ImageOf(depth, 1, 4));
+  const open3d::geometry::RGBDImage view(ImageOf(rgb, 3, 1), ImageOf(trusted, 1, 4));
   impl_->volume.Integrate(view, impl_->intrinsic, T_wc.inverse().matrix());
 }
 
@@ -123,6 +127,7 @@ MeshCounts TsdfVolume::WriteMesh(const std::filesystem::path& path, const PointF
     }
     if (left_out > 0) mesh->RemoveVerticesByMask(out);
   }
+  if (mesh->vertices_.empty()) return {0, 0, 0.0, left_out};  // Open3D neither writes nor reads an empty mesh
   mesh->ComputeVertexNormals();
   WriteAtomically(path, [&mesh](const std::string& file) {
     return open3d::io::WriteTriangleMesh(file, *mesh, /*write_ascii=*/false, /*compressed=*/false);
@@ -144,6 +149,7 @@ std::size_t TsdfVolume::WriteCloud(const std::filesystem::path& path, const Poin
     }
     if (kept.size() < cloud->points_.size()) cloud = cloud->SelectByIndex(kept);
   }
+  if (cloud->points_.empty()) return 0;  // as for the mesh
   WriteAtomically(path, [&cloud](const std::string& file) {
     return open3d::io::WritePointCloud(file, *cloud, {open3d::io::WritePointCloudOption::IsAscii::Binary});
   });

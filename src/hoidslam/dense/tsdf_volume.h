@@ -52,15 +52,17 @@ class TsdfVolume {
   TsdfVolume& operator=(const TsdfVolume&) = delete;
 
   // Fuses one view: colour CV_8UC3 (BGR), depth CV_32FC1 in metres with 0 where nothing is to be fused
-  // (FusibleDepth), the camera at T_wc. Throws std::invalid_argument for images of another type or size.
+  // (FusibleDepth; depth beyond options.max_depth is not fused either), the camera at T_wc. Throws
+  // std::invalid_argument for images of another type or size.
   void Integrate(const cv::Mat& bgr, const cv::Mat& depth, const core::Pose& T_wc);
 
   std::size_t Blocks() const;       // blocks of 16³ voxels allocated
   std::size_t MemoryBytes() const;  // what they take
 
   // Writes the mesh (binary PLY, vertex colours and normals) / the points at the voxels' zero crossings, each
-  // atomically, without the vertices (and their triangles) / points `leave_out` names (none: all); throws
-  // InputError naming the file when it cannot be written.
+  // atomically, without the vertices (and their triangles) / points `leave_out` names (none: all); with nothing
+  // left, no file (Open3D neither writes nor reads an empty one). Throws InputError naming the file when it cannot
+  // be written.
   MeshCounts WriteMesh(const std::filesystem::path& path, const PointFilter& leave_out = {}) const;
   std::size_t WriteCloud(const std::filesystem::path& path, const PointFilter& leave_out = {}) const;
   // The mesh as it stands (marching cubes), with its vertices' colours: what the live preview shows.

@@ -114,6 +114,16 @@ TEST(TsdfVolume, WhatTheFilterNamesIsLeftOutOfTheMeshAndTheCloud) {
   for (const Eigen::Vector3d& p : cloud.points_) ASSERT_LE(p.x(), 0.0);
 }
 
+TEST(TsdfVolume, DepthBeyondTheMaxDepthIsNotFused) {
+  const core::CameraIntrinsics camera = SmallCamera();
+  DenseOptions options = CoarseOptions();
+  options.max_depth = 1.4;
+  TsdfVolume volume(options, camera);
+  const cv::Mat grey(camera.height, camera.width, CV_8UC3, cv::Scalar(128, 128, 128));
+  volume.Integrate(grey, WallDepth(camera, core::Pose::Identity(), 1.5), core::Pose::Identity());
+  EXPECT_EQ(volume.Blocks(), 0U);
+}
+
 TEST(TsdfVolume, RefusesImagesOfAnotherSize) {
   TsdfVolume volume(DenseOptions{}, SmallCamera());
   EXPECT_THROW(volume.Integrate(cv::Mat(10, 10, CV_8UC3), cv::Mat(10, 10, CV_32FC1), core::Pose::Identity()),
@@ -121,7 +131,10 @@ TEST(TsdfVolume, RefusesImagesOfAnotherSize) {
 }
 
 TEST(TsdfVolume, AFileThatCannotBeWrittenIsNamed) {
-  TsdfVolume volume(DenseOptions{}, SmallCamera());
+  const core::CameraIntrinsics camera = SmallCamera();
+  TsdfVolume volume(CoarseOptions(), camera);
+  const cv::Mat grey(camera.height, camera.width, CV_8UC3, cv::Scalar(128, 128, 128));
+  volume.Integrate(grey, WallDepth(camera, core::Pose::Identity(), 1.5), core::Pose::Identity());
   EXPECT_NE(testing::InputErrorOf([&] { volume.WriteMesh("/nonexistent-folder/mesh.ply"); })
                 .find("/nonexistent-folder/mesh.ply"),
             std::string::npos);
