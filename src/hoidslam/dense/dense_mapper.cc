@@ -1,7 +1,10 @@
 #include "hoidslam/dense/dense_mapper.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <exception>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 
@@ -28,10 +31,14 @@ constexpr double kStampTolerance = 1e-6;
 constexpr std::size_t kFloorSampleStep = 4;
 
 // Depth (CV_32FC1, metres) as a 16-bit PNG in half-millimetres. Lossless and fast at level 1: on the 3,600-frame
-// loop the keyframes held took 207 MB raw, and the build's peak memory is the volume's plus theirs.
-void EncodeDepth(const cv::Mat& metres, std::vector<unsigned char>& png) {
+// loop the keyframes held took 207 MB raw, and the build's peak memory is the volume's plus theirs. Depth beyond
+// `far` is held as the largest value, 32.8 m: there only the ray's direction counts (OccupancyMap::InsertDepth cuts
+// it at the depth trusted), and one value compresses to almost nothing — kept as measured, it doubled what was held.
+void EncodeDepth(const cv::Mat& metres, std::vector<unsigned char>& png,
+                 double far = std::numeric_limits<double>::infinity()) {
   cv::Mat units;
   metres.convertTo(units, CV_16U, kDepthUnitsPerMetre);
+  if (std::isfinite(far)) units.setTo(std::numeric_limits<std::uint16_t>::max(), metres > far);
   cv::imencode(".png", units, png, {cv::IMWRITE_PNG_COMPRESSION, 1});
 }
 
@@ -142,9 +149,9 @@ DenseMapper::View DenseMapper::Fusible(const Pending& pending) const {
   return {bgr, depth};
 }
 
-DenseMapper::Prepared DenseMapper::Compress(const View& view) {
+DenseMapper::Prepared DenseMapper::Compress(const View& view) const {
   Prepared prepared;
-  EncodeDepth(view.depth, prepared.png);
+  EncodeDepth(view.depth, prepared.png, options_.max_depth);
   cv::imencode(".jpg", view.bgr, prepared.jpeg, {cv::IMWRITE_JPEG_QUALITY, kJpegQuality});
   return prepared;
 }
@@ -186,13 +193,13 @@ DenseSummary DenseMapper::Build(const core::Trajectory& keyframes, const std::fi
   return summary;
 }
 
-const DenseMapper::Prepared* DenseMapper::Held(double timestamp) const {
+DenseMapper::Prepared* DenseMapper::Held(double timestamp) {
   const auto found = prepared_.lower_bound(timestamp - kStampTolerance);
   if (found == prepared_.end() || found->first > timestamp + kStampTolerance) return nullptr;
   return &found->second;
 }
 
-DenseSummary DenseMapper::Fuse(const core::Trajectory& keyframes, const std::filesystem::path& folder) const {
+DenseSummary DenseMapper::Fuse(const core::Trajectory& keyframes, const std::filesystem::path& folder) {
   DenseSummary summary;
   for (const auto& [stamp, prepared] : prepared_) {
     std::size_t bytes = prepared.png.size() + prepared.jpeg.size();
@@ -202,7 +209,7 @@ DenseSummary DenseMapper::Fuse(const core::Trajectory& keyframes, const std::fil
   StaticWorld world(options_, camera_);
   std::optional<core::Pose> first_T_wc;
   for (const core::StampedPose& keyframe : keyframes) {
-    const Prepared* prepared = Held(keyframe.timestamp);
+    Prepared* prepared = Held(keyframe.timestamp);
     if (prepared == nullptr) {
       ++summary.keyframes_without_images;
       continue;
@@ -211,6 +218,9 @@ DenseSummary DenseMapper::Fuse(const core::Trajectory& keyframes, const std::fil
     const cv::Mat bgr = cv::imdecode(prepared->jpeg, cv::IMREAD_COLOR);
     const core::Stopwatch fuse;
     world.Fuse(bgr, depth, keyframe.T_wc);
+    // Fused: only the person crops are read again (CheckPeople), and the build's peak comes at its end.
+    std::vector<unsigned char>().swap(prepared->png);
+    std::vector<unsigned char>().swap(prepared->jpeg);
     summary.fuse_ms.push_back(fuse.ElapsedMilliseconds());
     if (!first_T_wc) first_T_wc = keyframe.T_wc;
     ++summary.keyframes;
@@ -239,7 +249,7 @@ DenseSummary DenseMapper::Fuse(const core::Trajectory& keyframes, const std::fil
 }
 
 std::optional<eval::PersonSurface> DenseMapper::CheckPeople(const core::Trajectory& keyframes,
-                                                            const std::filesystem::path& folder) const {
+                                                            const std::filesystem::path& folder) {
   std::vector<eval::PersonView> views;
   for (const core::StampedPose& keyframe : keyframes) {
     const Prepared* prepared = Held(keyframe.timestamp);

@@ -91,14 +91,15 @@ class DenseMapper {
   void Work();
   void Stop();
   // The keyframe prepared at `timestamp` (within a microsecond), or null: none was handed over.
-  const Prepared* Held(double timestamp) const;
-  DenseSummary Fuse(const core::Trajectory& keyframes, const std::filesystem::path& folder) const;
+  Prepared* Held(double timestamp);
+  // Fuses the keyframes' images and lets them go; the person crops stay for CheckPeople.
+  DenseSummary Fuse(const core::Trajectory& keyframes, const std::filesystem::path& folder);
   View Fusible(const Pending& pending) const;
-  static Prepared Compress(const View& view);
+  Prepared Compress(const View& view) const;
   std::vector<PersonCrop> PersonCrops(const Pending& pending) const;
   // The person boxes of the keyframes fused, at their poses, against the map written into `folder`.
   std::optional<eval::PersonSurface> CheckPeople(const core::Trajectory& keyframes,
-                                                 const std::filesystem::path& folder) const;
+                                                 const std::filesystem::path& folder);
 
   DenseOptions options_;
   core::CameraIntrinsics camera_;  // without distortion: the images are undistorted as they are prepared

@@ -43,7 +43,7 @@ class OccupancyMap {
   // Casts the rays of one depth image (CV_32FC1, metres; 0 = no ray: invalid or excluded) from the camera at
   // T_wc: cells along a ray are free, the cell at its end occupied. A ray deeper than `max_depth` (beyond the
   // range the caller trusts for surfaces) is cut there and only frees the cells it crosses: the space before a far
-  // wall is free even where the wall itself is too far to map.
+  // wall is free even where the wall itself is too far to map. Those rays are cast at twice the pixel step.
   void InsertDepth(const cv::Mat& depth, const core::CameraIntrinsics& camera, const core::Pose& T_wc,
                    double max_depth = std::numeric_limits<double>::infinity());
 
