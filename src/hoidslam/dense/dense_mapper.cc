@@ -218,10 +218,10 @@ DenseSummary DenseMapper::Fuse(const core::Trajectory& keyframes, const std::fil
     const cv::Mat bgr = cv::imdecode(prepared->jpeg, cv::IMREAD_COLOR);
     const core::Stopwatch fuse;
     world.Fuse(bgr, depth, keyframe.T_wc);
+    summary.fuse_ms.push_back(fuse.ElapsedMilliseconds());
     // Fused: only the person crops are read again (CheckPeople), and the build's peak comes at its end.
     std::vector<unsigned char>().swap(prepared->png);
     std::vector<unsigned char>().swap(prepared->jpeg);
-    summary.fuse_ms.push_back(fuse.ElapsedMilliseconds());
     if (!first_T_wc) first_T_wc = keyframe.T_wc;
     ++summary.keyframes;
   }
