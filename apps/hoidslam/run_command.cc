@@ -573,6 +573,11 @@ void AddRunCommand(CLI::App& app) {
                       "With --dense: pixels the regions the filter drops grow by before fusion")
       ->capture_default_str()
       ->needs(dense);
+  command->add_option("--dense-depth-extent", args->dense_options.depth_extent,
+                      "With --dense: how far behind the foreground of a box hoidplus dropped the dense map still "
+                      "leaves out, m (never less than the filter's own HOIDplus.depthExtent)")
+      ->capture_default_str()
+      ->needs(dense);
   command->add_flag("--dense-keep-seen-through", args->dense_options.keep_seen_through,
                     "With --dense: keep surface that later keyframes looked through (by default the mesh and the "
                     "cloud leave out what lies in cells the occupancy map calls free: a person the filter missed in "

@@ -54,13 +54,12 @@ void SetOccupancyBand(std::string_view text, OccupancyOptions& options) {
 
 double VolumeBytesPerSquareMetre(double voxel_size) {
   // Measured on walking_xyz (docs/dense.md): 90 blocks of 16³ voxels per m² of surface at 1 cm with a four-voxel
-  // truncation, 2.3 times one layer of blocks (surfaces cross blocks at a slant, the truncation band is thick);
-  // a coloured voxel takes 32 bytes.
+  // truncation, 2.3 times one layer of blocks (surfaces cross blocks at a slant, the truncation band is thick).
   constexpr double kBlockLayers = 2.5;
-  constexpr double kBlockVoxels = 16.0;
-  constexpr double kVoxelBytes = 32.0;
+  constexpr auto kBlockVoxels = static_cast<double>(kVolumeBlockVoxels);
   const double block_edge = kBlockVoxels * voxel_size;
-  return kBlockLayers / (block_edge * block_edge) * kBlockVoxels * kBlockVoxels * kBlockVoxels * kVoxelBytes;
+  return kBlockLayers / (block_edge * block_edge) * kBlockVoxels * kBlockVoxels * kBlockVoxels *
+         static_cast<double>(kVolumeVoxelBytes);
 }
 
 std::size_t DenseOptions::MemoryLimitMb() const {
@@ -85,6 +84,9 @@ void DenseOptions::Check() const {
     throw core::InputError::ForParameter(
         "--dense-max-depth", fmt::format("must be at most {} m, beyond what an RGB-D sensor measures, got {}",
                                          kMaxDepthLimit, max_depth));
+  }
+  if (!(depth_extent >= 0.0)) {
+    throw core::InputError::ForParameter("--dense-depth-extent", fmt::format("must be >= 0 m, got {}", depth_extent));
   }
   if (mask_margin < 0) {
     throw core::InputError::ForParameter("--dense-mask-margin", fmt::format("must be >= 0, got {}", mask_margin));

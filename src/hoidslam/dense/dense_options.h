@@ -38,6 +38,12 @@ struct DenseOptions {
   // Pixels the dynamic regions grow by: the colour and depth images of a person's outline disagree by a pixel or
   // two, and a detector's box edge by more (--dense-mask-margin).
   int mask_margin = 4;
+  // m, how far behind the foreground of a box hoidplus dropped the static map still leaves out
+  // (--dense-depth-extent); never less than the filter's own HOIDplus.depthExtent (0.5 m). Tracking needs the
+  // wall behind a person now and drops only half a metre; the map keeps a ghost for good and sees the wall from
+  // other views. A person seen from above reaches farther: on walking_xyz, standing people's legs lay up to 0.9 m
+  // behind their torsos.
+  double depth_extent = 1.0;
   // A pixel whose 3×3 neighbourhood spans more than this share of its depth lies on a depth edge, where a sensor
   // mixes foreground and background ("flying pixels"): left out.
   double depth_edge = 0.05;
@@ -61,6 +67,13 @@ struct DenseOptions {
   // height band upside down, a volume for kReferenceRoomSurface that would not fit in MemoryLimitMb().
   void Check() const;
 };
+
+// The volume's blocks (tsdf_volume.h): cubes of this many voxels a side, allocated where surfaces are (Open3D's
+// default). Blocks of 8³ hold 0.6 of the voxels and fuse one frame faster, but a room's build slower: every depth
+// sample looks up the blocks around it in a hash map four times the size (docs/dense.md).
+inline constexpr int kVolumeBlockVoxels = 16;
+// Open3D's coloured voxel: signed distance and weight (floats), colour (three doubles).
+inline constexpr std::size_t kVolumeVoxelBytes = 32;
 
 // What a volume of `voxel_size` voxels takes per m² of surface it holds, bytes (an estimate from measurements).
 double VolumeBytesPerSquareMetre(double voxel_size);

@@ -33,6 +33,7 @@ TEST(DenseOptions, EachBadValueIsNamedByItsParameter) {
   EXPECT_THAT(with([](DenseOptions& o) { o.truncation = 0.015; }), HasSubstr("--dense-truncation"));
   EXPECT_THAT(with([](DenseOptions& o) { o.max_depth = 0.2; }), HasSubstr("--dense-max-depth"));
   EXPECT_THAT(with([](DenseOptions& o) { o.mask_margin = -1; }), HasSubstr("--dense-mask-margin"));
+  EXPECT_THAT(with([](DenseOptions& o) { o.depth_extent = -0.1; }), HasSubstr("--dense-depth-extent"));
   EXPECT_THAT(with([](DenseOptions& o) { o.occupancy.band_low = 2.0; }), HasSubstr("--occupancy-band"));
   EXPECT_THAT(with([](DenseOptions& o) { o.occupancy.resolution = 0.0; }), HasSubstr("--occupancy-resolution"));
 }

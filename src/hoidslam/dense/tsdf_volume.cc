@@ -31,9 +31,6 @@ namespace integration = open3d::pipelines::integration;
 
 namespace {
 
-constexpr int kBlockVoxels = 16;
-// Open3D's coloured voxel: signed distance and weight (floats), colour (three doubles).
-constexpr std::size_t kVoxelBytes = 32;
 
 // An Open3D image holding a copy of `mat` (continuous rows of `channels` × `bytes` per pixel).
 open3d::geometry::Image ImageOf(const cv::Mat& mat, int channels, int bytes) {
@@ -73,7 +70,7 @@ void UseOneOpenMPThread() {
 
 struct TsdfVolume::Impl {
   Impl(const DenseOptions& options, const core::CameraIntrinsics& camera)
-      : volume(options.voxel_size, options.truncation, integration::TSDFVolumeColorType::RGB8, kBlockVoxels),
+      : volume(options.voxel_size, options.truncation, integration::TSDFVolumeColorType::RGB8, kVolumeBlockVoxels),
         intrinsic(camera.width, camera.height, camera.fx, camera.fy, camera.cx, camera.cy),
         size(camera.width, camera.height),
         max_depth(options.max_depth) {}
@@ -113,7 +110,7 @@ void TsdfVolume::Integrate(const cv::Mat& bgr, const cv::Mat& depth, const core:
 std::size_t TsdfVolume::Blocks() const { return impl_->volume.volume_units_.size(); }
 
 std::size_t TsdfVolume::MemoryBytes() const {
-  return Blocks() * kBlockVoxels * kBlockVoxels * kBlockVoxels * kVoxelBytes;
+  return Blocks() * kVolumeBlockVoxels * kVolumeBlockVoxels * kVolumeBlockVoxels * kVolumeVoxelBytes;
 }
 
 MeshCounts TsdfVolume::WriteMesh(const std::filesystem::path& path, const PointFilter& leave_out) const {

@@ -1,6 +1,6 @@
 #pragma once
 // The static world as a truncated signed distance volume (Open3D's ScalableTSDFVolume: blocks of 16³ coloured voxels
-// allocated where surfaces are), and what is drawn from it: a coloured triangle mesh (marching cubes) and a dense
+// allocated where surfaces are, kVolumeBlockVoxels), and what is drawn from it: a coloured triangle mesh (marching cubes) and a dense
 // cloud of points at the voxel size. Open3D stays inside this file's .cc.
 //
 // Open3D 0.16 has two volumes; on this project's 2-core machine the legacy one integrates a 640×480 keyframe at
@@ -56,7 +56,7 @@ class TsdfVolume {
   // std::invalid_argument for images of another type or size.
   void Integrate(const cv::Mat& bgr, const cv::Mat& depth, const core::Pose& T_wc);
 
-  std::size_t Blocks() const;       // blocks of 16³ voxels allocated
+  std::size_t Blocks() const;       // blocks of kVolumeBlockVoxels³ voxels allocated
   std::size_t MemoryBytes() const;  // what they take
 
   // Writes the mesh (binary PLY, vertex colours and normals) / the points at the voxels' zero crossings, each

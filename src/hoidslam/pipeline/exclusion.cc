@@ -168,15 +168,25 @@ void KeypointExclusion::AfterTracking(const std::optional<core::Pose>& T_cw) {
 }
 
 cv::Mat KeypointExclusion::PaintDropped(const core::RgbdFrame& frame, const hoid::JudgedBoxes& boxes) const {
-  if (plus_) {
-    return hoid::PaintExclusionRegions(hoid::DynamicRegions(boxes), options_.hoid.plus.depth ? frame.depth : cv::Mat(),
-                                       frame.rgb.size());
-  }
-  return PaintDynamicBoxes(boxes.detections, boxes.decisions, frame.rgb.size());
+  return PaintReaching(frame, boxes, options_.hoid.plus.depth_extent);
 }
 
-cv::Mat KeypointExclusion::StaticMapExclusion(const core::RgbdFrame& frame, const hoid::JudgedBoxes& boxes) const {
-  if (!options_.oracle) return PaintDropped(frame, boxes);
+cv::Mat KeypointExclusion::PaintReaching(const core::RgbdFrame& frame, const hoid::JudgedBoxes& boxes,
+                                         double depth_extent) const {
+  if (!plus_) return PaintDynamicBoxes(boxes.detections, boxes.decisions, frame.rgb.size());
+  std::vector<hoid::ExclusionRegion> regions = hoid::DynamicRegions(boxes);
+  // A cut lies the filter's depth extent behind a foreground's median (or at the mode's far end, farther still):
+  // moved back by the difference, it lies depth_extent behind.
+  const auto farther = static_cast<float>(depth_extent - options_.hoid.plus.depth_extent);
+  if (farther > 0.0F) {
+    for (hoid::ExclusionRegion& region : regions) region.cut += farther;  // +inf stays +inf
+  }
+  return hoid::PaintExclusionRegions(regions, options_.hoid.plus.depth ? frame.depth : cv::Mat(), frame.rgb.size());
+}
+
+cv::Mat KeypointExclusion::StaticMapExclusion(const core::RgbdFrame& frame, const hoid::JudgedBoxes& boxes,
+                                              double depth_extent) const {
+  if (!options_.oracle) return PaintReaching(frame, boxes, depth_extent);
   cv::Mat left_out;
   cv::compare(MovingMask(frame), 0, left_out, cv::CMP_NE);
   if (ScoresStillPeople()) left_out.setTo(255, ReadMask(people_folder_, frame, "people mask", people_));

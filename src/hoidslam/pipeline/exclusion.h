@@ -95,9 +95,11 @@ class KeypointExclusion {
   // the dynamic boxes, or for hoidplus with depth their foreground regions.
   cv::Mat PaintDropped(const core::RgbdFrame& frame, const hoid::JudgedBoxes& boxes) const;
   // What the static map (dense/) leaves out of the frame last marked, CV_8UC1 255 = left out: what PaintDropped
-  // paints; for oracle the moving mask and every person, still or not (people/, when the sequence has it), since
-  // the static world it is measured against holds no person.
-  cv::Mat StaticMapExclusion(const core::RgbdFrame& frame, const hoid::JudgedBoxes& boxes) const;
+  // paints, for hoidplus with depth with each foreground reaching `depth_extent` metres behind its median where
+  // that is more than the filter's own HOIDplus.depthExtent (a map keeps a ghost for good, tracking needs its
+  // keypoints now); for oracle the moving mask and every person, still or not (people/, when the sequence has
+  // it), since the static world it is measured against holds no person.
+  cv::Mat StaticMapExclusion(const core::RgbdFrame& frame, const hoid::JudgedBoxes& boxes, double depth_extent) const;
   // Where the frame last marked has something dynamic, CV_8UC1 255 = dynamic: a second extraction looks for no
   // keypoint there. The dynamic boxes whole (for hoidplus too: its depth test keeps what lies behind a person, but
   // the person's outline in colour, where the depth image has the background, is no place to look for more; on
@@ -121,6 +123,9 @@ class KeypointExclusion {
   const cv::Mat& MovingMask(const core::RgbdFrame& frame) const;
 
  private:
+  // PaintDropped with hoidplus's foregrounds reaching depth_extent behind their medians (never nearer than the
+  // filter's own cut).
+  cv::Mat PaintReaching(const core::RgbdFrame& frame, const hoid::JudgedBoxes& boxes, double depth_extent) const;
   // The last mask read from one folder (one KeypointExclusion per run: not shared across threads).
   struct CachedMask {
     std::filesystem::path path;

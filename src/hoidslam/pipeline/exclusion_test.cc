@@ -170,7 +170,7 @@ TEST(KeypointExclusion, TheStaticMapLeavesOutWhatTheFilterDropsAndForOracleEvery
   SetFilterMode("oracle", oracle);
   KeypointExclusion by_oracle(oracle, dir.path());
   by_oracle.Mark(Frame(), kDetections, kKeypoints, cv::Mat(), keep, boxes);
-  const cv::Mat left_out = by_oracle.StaticMapExclusion(Frame(), boxes);
+  const cv::Mat left_out = by_oracle.StaticMapExclusion(Frame(), boxes, 1.0);
   EXPECT_EQ(cv::countNonZero(left_out), 20 * 20 + 150 * 300);
   EXPECT_EQ(left_out.at<std::uint8_t>(200, 150), 255);
 
@@ -179,7 +179,31 @@ TEST(KeypointExclusion, TheStaticMapLeavesOutWhatTheFilterDropsAndForOracleEvery
   KeypointExclusion by_filter(hoid2d, dir.path());
   by_filter.Mark(Frame(), kDetections, kKeypoints, cv::Mat(), keep, boxes);
   const cv::Mat painted = by_filter.PaintDropped(Frame(), boxes);
-  EXPECT_EQ(cv::countNonZero(by_filter.StaticMapExclusion(Frame(), boxes) != painted), 0);
+  EXPECT_EQ(cv::countNonZero(by_filter.StaticMapExclusion(Frame(), boxes, 1.0) != painted), 0);
+}
+
+TEST(KeypointExclusion, TheStaticMapLeavesOutLegsFartherBehindATorsoThanTrackingDropsAndKeepsTheWall) {
+  core::RgbdFrame frame = Frame();
+  frame.depth.setTo(3.0F);                                // a wall
+  frame.depth(cv::Rect(100, 100, 150, 200)).setTo(1.0F);  // a torso facing the camera
+  frame.depth(cv::Rect(150, 300, 50, 100)).setTo(1.8F);   // the legs, seen from above: farther away
+  ExclusionOptions options;
+  SetFilterMode("hoidplus", options);
+  KeypointExclusion exclusion(options, "");
+  std::vector<std::uint8_t> keep;
+  hoid::JudgedBoxes boxes;
+  const std::vector<core::Detection> person = {Det("person", 100, 100, 150, 300)};
+  exclusion.Mark(frame, person, kKeypoints, cv::Mat(), keep, boxes);
+
+  const cv::Mat tracking = exclusion.PaintDropped(frame, boxes);
+  EXPECT_EQ(tracking.at<std::uint8_t>(200, 150), 255);  // the torso
+  EXPECT_EQ(tracking.at<std::uint8_t>(350, 175), 0);    // the legs, 0.8 m behind: kept for tracking
+  const cv::Mat map = exclusion.StaticMapExclusion(frame, boxes, 1.0);
+  EXPECT_EQ(map.at<std::uint8_t>(200, 150), 255);
+  EXPECT_EQ(map.at<std::uint8_t>(350, 175), 255);  // left out of the map
+  EXPECT_EQ(map.at<std::uint8_t>(350, 120), 0);    // the wall behind the person is fused
+  // Never less than what tracking drops.
+  EXPECT_EQ(cv::countNonZero(exclusion.StaticMapExclusion(frame, boxes, 0.2) != tracking), 0);
 }
 
 TEST(KeypointExclusion, ScoresAnyModeAgainstTheMovingMask) {

@@ -64,8 +64,9 @@ class Session {
   // or absent, and counts the keyframes and map points into the summary. Call after Finish for the final map.
   void WriteOutputs(const std::filesystem::path& folder);
 
-  // What the static map leaves out of the frame last tracked (KeypointExclusion::StaticMapExclusion).
-  cv::Mat StaticMapExclusion(const core::RgbdFrame& frame) const;
+  // What the static map leaves out of the frame last tracked, its foregrounds reaching `depth_extent` metres
+  // behind (KeypointExclusion::StaticMapExclusion).
+  cv::Mat StaticMapExclusion(const core::RgbdFrame& frame, double depth_extent) const;
 
   RunSummary& summary() { return summary_; }
   const RunSummary& summary() const { return summary_; }
