@@ -31,7 +31,6 @@ namespace integration = open3d::pipelines::integration;
 
 namespace {
 
-
 // An Open3D image holding a copy of `mat` (continuous rows of `channels` × `bytes` per pixel).
 open3d::geometry::Image ImageOf(const cv::Mat& mat, int channels, int bytes) {
   open3d::geometry::Image image;

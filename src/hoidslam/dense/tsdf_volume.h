@@ -1,7 +1,7 @@
 #pragma once
-// The static world as a truncated signed distance volume (Open3D's ScalableTSDFVolume: blocks of 16³ coloured voxels
-// allocated where surfaces are, kVolumeBlockVoxels), and what is drawn from it: a coloured triangle mesh (marching cubes) and a dense
-// cloud of points at the voxel size. Open3D stays inside this file's .cc.
+// The static world as a truncated signed distance volume (Open3D's ScalableTSDFVolume: blocks of 16³ coloured voxels,
+// kVolumeBlockVoxels, allocated where surfaces are), and what is drawn from it: a coloured triangle mesh (marching
+// cubes) and a dense cloud of points at the voxel size. Open3D stays inside this file's .cc.
 //
 // Open3D 0.16 has two volumes; on this project's 2-core machine the legacy one integrates a 640×480 keyframe at
 // 1 cm in 26 ms on one thread where the tensor VoxelBlockGrid takes 58 ms and, its blocks allocated up front,
