@@ -56,10 +56,8 @@ double VolumeBytesPerSquareMetre(double voxel_size) {
   // Measured on walking_xyz (docs/dense.md): 90 blocks of 16³ voxels per m² of surface at 1 cm with a four-voxel
   // truncation, 2.3 times one layer of blocks (surfaces cross blocks at a slant, the truncation band is thick).
   constexpr double kBlockLayers = 2.5;
-  constexpr auto kBlockVoxels = static_cast<double>(kVolumeBlockVoxels);
-  const double block_edge = kBlockVoxels * voxel_size;
-  return kBlockLayers / (block_edge * block_edge) * kBlockVoxels * kBlockVoxels * kBlockVoxels *
-         static_cast<double>(kVolumeVoxelBytes);
+  const double block_edge = kVolumeBlockVoxels * voxel_size;
+  return kBlockLayers / (block_edge * block_edge) * static_cast<double>(kVolumeBlockBytes);
 }
 
 std::size_t DenseOptions::MemoryLimitMb() const {

@@ -74,6 +74,8 @@ struct DenseOptions {
 inline constexpr int kVolumeBlockVoxels = 16;
 // Open3D's coloured voxel: signed distance and weight (floats), colour (three doubles).
 inline constexpr std::size_t kVolumeVoxelBytes = 32;
+inline constexpr std::size_t kVolumeBlockBytes =
+    std::size_t{kVolumeBlockVoxels} * kVolumeBlockVoxels * kVolumeBlockVoxels * kVolumeVoxelBytes;
 
 // What a volume of `voxel_size` voxels takes per m² of surface it holds, bytes (an estimate from measurements).
 double VolumeBytesPerSquareMetre(double voxel_size);

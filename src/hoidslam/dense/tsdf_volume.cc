@@ -109,7 +109,7 @@ void TsdfVolume::Integrate(const cv::Mat& bgr, const cv::Mat& depth, const core:
 std::size_t TsdfVolume::Blocks() const { return impl_->volume.volume_units_.size(); }
 
 std::size_t TsdfVolume::MemoryBytes() const {
-  return Blocks() * kVolumeBlockVoxels * kVolumeBlockVoxels * kVolumeBlockVoxels * kVolumeVoxelBytes;
+  return Blocks() * kVolumeBlockBytes;
 }
 
 MeshCounts TsdfVolume::WriteMesh(const std::filesystem::path& path, const PointFilter& leave_out) const {
