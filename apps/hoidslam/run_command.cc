@@ -578,6 +578,12 @@ void AddRunCommand(CLI::App& app) {
                       "leaves out, m (never less than the filter's own HOIDplus.depthExtent)")
       ->capture_default_str()
       ->needs(dense);
+  command->add_option("--dense-box-margin", args->dense_options.box_margin,
+                      "With --dense: share of the width and height of a box hoidplus dropped that the dense map "
+                      "also leaves out beyond each side, at the box's foreground depth (never less than the filter's "
+                      "own HOIDplus.boxMargin)")
+      ->capture_default_str()
+      ->needs(dense);
   command->add_flag("--dense-keep-seen-through", args->dense_options.keep_seen_through,
                     "With --dense: keep surface that later keyframes looked through (by default the mesh and the "
                     "cloud leave out what lies in cells the occupancy map calls free: a person the filter missed in "

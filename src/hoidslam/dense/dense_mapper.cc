@@ -108,7 +108,7 @@ void DenseMapper::TakeKeyFrame(const pipeline::Session& session, const core::Rgb
   for (const core::Detection& detection : *boxes) {
     if (detection.label == session.options().exclusion.hoid.person_class) people.push_back(detection.box);
   }
-  AddKeyFrame(frame, session.StaticMapExclusion(frame, options_.depth_extent), T_wc, people);
+  AddKeyFrame(frame, session.StaticMapExclusion(frame, {options_.depth_extent, options_.box_margin}), T_wc, people);
 }
 
 void DenseMapper::FollowPreview(const PreviewOptions& preview, std::function<void(io::TriangleMesh)> show) {

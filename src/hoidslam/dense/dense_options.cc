@@ -86,6 +86,9 @@ void DenseOptions::Check() const {
   if (!(depth_extent >= 0.0)) {
     throw core::InputError::ForParameter("--dense-depth-extent", fmt::format("must be >= 0 m, got {}", depth_extent));
   }
+  if (!(box_margin >= 0.0)) {
+    throw core::InputError::ForParameter("--dense-box-margin", fmt::format("must be >= 0, got {}", box_margin));
+  }
   if (mask_margin < 0) {
     throw core::InputError::ForParameter("--dense-mask-margin", fmt::format("must be >= 0, got {}", mask_margin));
   }

@@ -44,6 +44,13 @@ struct DenseOptions {
   // other views. A person seen from above reaches farther: on walking_xyz, standing people's legs lay up to 0.9 m
   // behind their torsos.
   double depth_extent = 1.0;
+  // Share of a hoidplus dynamic box's width and height the static map also leaves out beyond each side
+  // (--dense-box-margin), never less than the filter's own HOIDplus.boxMargin (0.05); there only the foreground as
+  // far as tracking's cut, not depth_extent: a head or an arm the box cut off lies at the person's depth, the
+  // floor and the desks around them farther. A detector's box edge is off by some of the box (the synthetic
+  // detector noise moves each edge by 5 % of the box, one standard deviation), and what it cuts off, fused once,
+  // stays in the map: 0.15 is three of those deviations.
+  double box_margin = 0.15;
   // A pixel whose 3×3 neighbourhood spans more than this share of its depth lies on a depth edge, where a sensor
   // mixes foreground and background ("flying pixels"): left out.
   double depth_edge = 0.05;
@@ -72,8 +79,9 @@ struct DenseOptions {
 // default). Blocks of 8³ hold 0.6 of the voxels and fuse one frame faster, but a room's build slower: every depth
 // sample looks up the blocks around it in a hash map four times the size (docs/dense.md).
 inline constexpr int kVolumeBlockVoxels = 16;
-// Open3D's coloured voxel: signed distance and weight (floats), colour (three doubles).
-inline constexpr std::size_t kVolumeVoxelBytes = 32;
+// Open3D's coloured voxel: signed distance and weight (floats), colour (three doubles) and its grid index (three
+// ints, padded), 48 bytes (checked against Open3D's own in tsdf_volume.cc).
+inline constexpr std::size_t kVolumeVoxelBytes = 48;
 inline constexpr std::size_t kVolumeBlockBytes =
     std::size_t{kVolumeBlockVoxels} * kVolumeBlockVoxels * kVolumeBlockVoxels * kVolumeVoxelBytes;
 

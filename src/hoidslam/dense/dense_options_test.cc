@@ -34,25 +34,26 @@ TEST(DenseOptions, EachBadValueIsNamedByItsParameter) {
   EXPECT_THAT(with([](DenseOptions& o) { o.max_depth = 0.2; }), HasSubstr("--dense-max-depth"));
   EXPECT_THAT(with([](DenseOptions& o) { o.mask_margin = -1; }), HasSubstr("--dense-mask-margin"));
   EXPECT_THAT(with([](DenseOptions& o) { o.depth_extent = -0.1; }), HasSubstr("--dense-depth-extent"));
+  EXPECT_THAT(with([](DenseOptions& o) { o.box_margin = -0.05; }), HasSubstr("--dense-box-margin"));
   EXPECT_THAT(with([](DenseOptions& o) { o.occupancy.band_low = 2.0; }), HasSubstr("--occupancy-band"));
   EXPECT_THAT(with([](DenseOptions& o) { o.occupancy.resolution = 0.0; }), HasSubstr("--occupancy-resolution"));
 }
 
 TEST(DenseOptions, AVolumeThatWouldNotFitInMemoryIsRefusedBeforeTheRun) {
   DenseOptions options;
-  options.memory_limit_mb = 1500;
-  EXPECT_EQ(CheckMessage(options), "");  // 1 cm voxels: about 1.2 GiB for the reference room
+  options.memory_limit_mb = 2000;
+  EXPECT_EQ(CheckMessage(options), "");  // 1 cm voxels: about 1.8 GiB for the reference room
   options.voxel_size = 0.005;
   options.truncation = 0.02;
   const std::string message = CheckMessage(options);
   EXPECT_THAT(message, HasSubstr("--dense-voxel"));
-  EXPECT_THAT(message, HasSubstr("1500 MiB"));
+  EXPECT_THAT(message, HasSubstr("2000 MiB"));
 }
 
 TEST(DenseOptions, TheVolumeEstimateGrowsWithTheInverseSquareOfTheVoxel) {
   EXPECT_NEAR(VolumeBytesPerSquareMetre(0.005) / VolumeBytesPerSquareMetre(0.01), 4.0, 1e-9);
-  // The measured figure: about 12 MB per m² at 1 cm.
-  EXPECT_NEAR(VolumeBytesPerSquareMetre(0.01) / 1e6, 12.8, 0.5);
+  // From the measured 2.3 layers of blocks, rounded up to 2.5, of 16³ voxels of 48 bytes: about 19 MB per m² at 1 cm.
+  EXPECT_NEAR(VolumeBytesPerSquareMetre(0.01) / 1e6, 19.2, 0.5);
 }
 
 TEST(SetOccupancyBand, ReadsLowColonHighAndNamesTheParameterOtherwise) {

@@ -42,6 +42,7 @@ nlohmann::json DenseSummaryJson(const DenseSummary& summary, const DenseOptions&
         {"max_depth", options.max_depth},
         {"mask_margin", options.mask_margin},
         {"depth_extent", options.depth_extent},
+        {"box_margin", options.box_margin},
         {"keep_seen_through", options.keep_seen_through},
         {"occupancy_resolution", options.occupancy.resolution},
         {"occupancy_band", {options.occupancy.band_low, options.occupancy.band_high}}}},

@@ -15,6 +15,7 @@
 #include <open3d/io/PointCloudIO.h>
 #include <open3d/io/TriangleMeshIO.h>
 #include <open3d/pipelines/integration/ScalableTSDFVolume.h>
+#include <open3d/pipelines/integration/UniformTSDFVolume.h>
 #include <opencv2/imgproc.hpp>
 
 #include "hoidslam/core/error.h"
@@ -28,6 +29,9 @@ extern "C" void omp_set_num_threads(int threads);
 namespace hoidslam::dense {
 
 namespace integration = open3d::pipelines::integration;
+
+static_assert(sizeof(open3d::geometry::TSDFVoxel) == kVolumeVoxelBytes,
+              "the memory the volume reports and the estimate that refuses too fine a voxel count Open3D's voxel");
 
 namespace {
 

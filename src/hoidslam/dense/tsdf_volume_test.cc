@@ -46,7 +46,7 @@ TEST(TsdfVolume, AWallSeenFromTwoPlacesBecomesAFlatColouredMeshWhereTheWallIs) {
     volume.Integrate(red, WallDepth(camera, T_wc, 1.5), T_wc);
   }
   EXPECT_GT(volume.Blocks(), 0U);
-  EXPECT_EQ(volume.MemoryBytes(), volume.Blocks() * 16 * 16 * 16 * 32);
+  EXPECT_EQ(volume.MemoryBytes(), volume.Blocks() * 16 * 16 * 16 * 48);
 
   const testing::TempDir dir;
   const MeshCounts mesh = volume.WriteMesh(dir / "mesh.ply");

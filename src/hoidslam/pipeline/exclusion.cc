@@ -168,25 +168,35 @@ void KeypointExclusion::AfterTracking(const std::optional<core::Pose>& T_cw) {
 }
 
 cv::Mat KeypointExclusion::PaintDropped(const core::RgbdFrame& frame, const hoid::JudgedBoxes& boxes) const {
-  return PaintReaching(frame, boxes, options_.hoid.plus.depth_extent);
+  return PaintReaching(frame, boxes, {options_.hoid.plus.depth_extent, options_.hoid.plus.box_margin});
 }
 
 cv::Mat KeypointExclusion::PaintReaching(const core::RgbdFrame& frame, const hoid::JudgedBoxes& boxes,
-                                         double depth_extent) const {
+                                         const StaticMapReach& reach) const {
   if (!plus_) return PaintDynamicBoxes(boxes.detections, boxes.decisions, frame.rgb.size());
   std::vector<hoid::ExclusionRegion> regions = hoid::DynamicRegions(boxes);
   // A cut lies the filter's depth extent behind a foreground's median (or at the mode's far end, farther still):
   // moved back by the difference, it lies depth_extent behind.
-  const auto farther = static_cast<float>(depth_extent - options_.hoid.plus.depth_extent);
-  if (farther > 0.0F) {
-    for (hoid::ExclusionRegion& region : regions) region.cut += farther;  // +inf stays +inf
+  const auto farther = static_cast<float>(reach.depth_extent - options_.hoid.plus.depth_extent);
+  // A region's box is the detector's grown by the filter's margin m₀ a side, (1 + 2m₀) times its size: grown by
+  // g more, (1 + 2m₀)(1 + 2g) = 1 + 2m makes it the detector's box grown by m.
+  const double tracking_margin = options_.hoid.plus.box_margin;
+  const double wider = ((1.0 + 2.0 * reach.box_margin) / (1.0 + 2.0 * tracking_margin) - 1.0) / 2.0;
+  std::vector<hoid::ExclusionRegion> reaching;
+  reaching.reserve(2 * regions.size());
+  for (hoid::ExclusionRegion region : regions) {
+    // Outside the box the map leaves out only what tracking drops inside it: a head or an arm the box cut off lies
+    // at the person's own depth, while the floor and the desks around them, beyond tracking's cut, are fused.
+    if (wider > 0.0) reaching.push_back({hoid::GrowBox(region.box, wider), region.cut, region.edge_margin});
+    if (farther > 0.0F) region.cut += farther;  // +inf stays +inf
+    reaching.push_back(region);
   }
-  return hoid::PaintExclusionRegions(regions, options_.hoid.plus.depth ? frame.depth : cv::Mat(), frame.rgb.size());
+  return hoid::PaintExclusionRegions(reaching, options_.hoid.plus.depth ? frame.depth : cv::Mat(), frame.rgb.size());
 }
 
 cv::Mat KeypointExclusion::StaticMapExclusion(const core::RgbdFrame& frame, const hoid::JudgedBoxes& boxes,
-                                              double depth_extent) const {
-  if (!options_.oracle) return PaintReaching(frame, boxes, depth_extent);
+                                              const StaticMapReach& reach) const {
+  if (!options_.oracle) return PaintReaching(frame, boxes, reach);
   cv::Mat left_out;
   cv::compare(MovingMask(frame), 0, left_out, cv::CMP_NE);
   if (ScoresStillPeople()) left_out.setTo(255, ReadMask(people_folder_, frame, "people mask", people_));

@@ -68,6 +68,14 @@ struct ExclusionCounts {
   ExclusionCounts& operator+=(const ExclusionCounts& other);
 };
 
+// How far beyond what tracking drops the static map leaves out, for hoidplus with depth (dense::DenseOptions has
+// the defaults and the reasons). A parameter of the map rather than of the filter: tracking needs the keypoints
+// next to a person now, the map keeps a ghost for good and sees what is next to the person from other views.
+struct StaticMapReach {
+  double depth_extent = 0.0;  // m behind each foreground's median, inside the box
+  double box_margin = 0.0;    // share of a dynamic box's width and height on each side, as far as tracking's cut
+};
+
 // Whether a keypoint lies on a marked pixel of `mask` (CV_8U, non-zero = marked): the pixel its position rounds
 // to. The oracle drops and the scoring counts by this one rule.
 bool OnMask(const cv::Mat& mask, const cv::KeyPoint& keypoint);
@@ -95,11 +103,12 @@ class KeypointExclusion {
   // the dynamic boxes, or for hoidplus with depth their foreground regions.
   cv::Mat PaintDropped(const core::RgbdFrame& frame, const hoid::JudgedBoxes& boxes) const;
   // What the static map (dense/) leaves out of the frame last marked, CV_8UC1 255 = left out: what PaintDropped
-  // paints, for hoidplus with depth with each foreground reaching `depth_extent` metres behind its median where
-  // that is more than the filter's own HOIDplus.depthExtent (a map keeps a ghost for good, tracking needs its
-  // keypoints now); for oracle the moving mask and every person, still or not (people/, when the sequence has
-  // it), since the static world it is measured against holds no person.
-  cv::Mat StaticMapExclusion(const core::RgbdFrame& frame, const hoid::JudgedBoxes& boxes, double depth_extent) const;
+  // paints, for hoidplus with depth each region reaching as far as `reach` says where that is more than the
+  // filter's own HOIDplus.depthExtent and boxMargin (a map keeps a ghost for good, tracking needs its keypoints
+  // now); for oracle the moving mask and every person, still or not (people/, when the sequence has it), since
+  // the static world it is measured against holds no person.
+  cv::Mat StaticMapExclusion(const core::RgbdFrame& frame, const hoid::JudgedBoxes& boxes,
+                             const StaticMapReach& reach) const;
   // Where the frame last marked has something dynamic, CV_8UC1 255 = dynamic: a second extraction looks for no
   // keypoint there. The dynamic boxes whole (for hoidplus too: its depth test keeps what lies behind a person, but
   // the person's outline in colour, where the depth image has the background, is no place to look for more; on
@@ -123,9 +132,9 @@ class KeypointExclusion {
   const cv::Mat& MovingMask(const core::RgbdFrame& frame) const;
 
  private:
-  // PaintDropped with hoidplus's foregrounds reaching depth_extent behind their medians (never nearer than the
-  // filter's own cut).
-  cv::Mat PaintReaching(const core::RgbdFrame& frame, const hoid::JudgedBoxes& boxes, double depth_extent) const;
+  // PaintDropped with hoidplus's regions reaching as far as `reach` says (never less far than the filter's own).
+  cv::Mat PaintReaching(const core::RgbdFrame& frame, const hoid::JudgedBoxes& boxes,
+                        const StaticMapReach& reach) const;
   // The last mask read from one folder (one KeypointExclusion per run: not shared across threads).
   struct CachedMask {
     std::filesystem::path path;

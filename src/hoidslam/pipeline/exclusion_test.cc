@@ -170,7 +170,7 @@ TEST(KeypointExclusion, TheStaticMapLeavesOutWhatTheFilterDropsAndForOracleEvery
   SetFilterMode("oracle", oracle);
   KeypointExclusion by_oracle(oracle, dir.path());
   by_oracle.Mark(Frame(), kDetections, kKeypoints, cv::Mat(), keep, boxes);
-  const cv::Mat left_out = by_oracle.StaticMapExclusion(Frame(), boxes, 1.0);
+  const cv::Mat left_out = by_oracle.StaticMapExclusion(Frame(), boxes, {1.0, 0.15});
   EXPECT_EQ(cv::countNonZero(left_out), 20 * 20 + 150 * 300);
   EXPECT_EQ(left_out.at<std::uint8_t>(200, 150), 255);
 
@@ -179,7 +179,7 @@ TEST(KeypointExclusion, TheStaticMapLeavesOutWhatTheFilterDropsAndForOracleEvery
   KeypointExclusion by_filter(hoid2d, dir.path());
   by_filter.Mark(Frame(), kDetections, kKeypoints, cv::Mat(), keep, boxes);
   const cv::Mat painted = by_filter.PaintDropped(Frame(), boxes);
-  EXPECT_EQ(cv::countNonZero(by_filter.StaticMapExclusion(Frame(), boxes, 1.0) != painted), 0);
+  EXPECT_EQ(cv::countNonZero(by_filter.StaticMapExclusion(Frame(), boxes, {1.0, 0.15}) != painted), 0);
 }
 
 TEST(KeypointExclusion, TheStaticMapLeavesOutLegsFartherBehindATorsoThanTrackingDropsAndKeepsTheWall) {
@@ -198,12 +198,39 @@ TEST(KeypointExclusion, TheStaticMapLeavesOutLegsFartherBehindATorsoThanTracking
   const cv::Mat tracking = exclusion.PaintDropped(frame, boxes);
   EXPECT_EQ(tracking.at<std::uint8_t>(200, 150), 255);  // the torso
   EXPECT_EQ(tracking.at<std::uint8_t>(350, 175), 0);    // the legs, 0.8 m behind: kept for tracking
-  const cv::Mat map = exclusion.StaticMapExclusion(frame, boxes, 1.0);
+  const cv::Mat map = exclusion.StaticMapExclusion(frame, boxes, {1.0, 0.05});
   EXPECT_EQ(map.at<std::uint8_t>(200, 150), 255);
   EXPECT_EQ(map.at<std::uint8_t>(350, 175), 255);  // left out of the map
   EXPECT_EQ(map.at<std::uint8_t>(350, 120), 0);    // the wall behind the person is fused
   // Never less than what tracking drops.
-  EXPECT_EQ(cv::countNonZero(exclusion.StaticMapExclusion(frame, boxes, 0.2) != tracking), 0);
+  EXPECT_EQ(cv::countNonZero(exclusion.StaticMapExclusion(frame, boxes, {0.2, 0.0}) != tracking), 0);
+}
+
+TEST(KeypointExclusion, TheStaticMapLeavesOutAPersonsEdgeTheBoxCutOffAndKeepsTheWallBesideIt) {
+  core::RgbdFrame frame = Frame();
+  frame.depth.setTo(3.0F);                                // a wall
+  frame.depth(cv::Rect(100, 100, 150, 300)).setTo(1.0F);  // a person
+  frame.depth(cv::Rect(88, 350, 8, 50)).setTo(1.7F);      // a chair beside them, 0.7 m behind
+  ExclusionOptions options;
+  SetFilterMode("hoidplus", options);
+  KeypointExclusion exclusion(options, "");
+  std::vector<std::uint8_t> keep;
+  hoid::JudgedBoxes boxes;
+  const std::vector<core::Detection> cut_off = {Det("person", 115, 100, 135, 300)};  // 15 px of the person outside
+  exclusion.Mark(frame, cut_off, kKeypoints, cv::Mat(), keep, boxes);
+
+  const cv::Mat tracking = exclusion.PaintDropped(frame, boxes);
+  EXPECT_EQ(tracking.at<std::uint8_t>(200, 150), 255);
+  EXPECT_EQ(tracking.at<std::uint8_t>(200, 105), 0);  // the person's edge, outside the box and its 5 %: kept
+  const cv::Mat map = exclusion.StaticMapExclusion(frame, boxes, {1.0, 0.15});
+  EXPECT_EQ(map.at<std::uint8_t>(200, 105), 255);  // left out of the map
+  EXPECT_EQ(map.at<std::uint8_t>(200, 95), 0);     // the wall beside the person, inside the grown box: fused
+  EXPECT_EQ(map.at<std::uint8_t>(80, 150), 0);     // and above
+  // The chair, inside the grown box and within the metre the map reaches behind the person, but beyond what
+  // tracking drops: the box reaches that far, its margin no farther than tracking.
+  EXPECT_EQ(map.at<std::uint8_t>(370, 95), 0);
+  // The person, all of it, with the 3 pixels the foreground grows by (HOIDplus.edgeMargin), and nothing else.
+  EXPECT_EQ(cv::countNonZero(map), (150 + 6) * (300 + 6));
 }
 
 TEST(KeypointExclusion, ScoresAnyModeAgainstTheMovingMask) {

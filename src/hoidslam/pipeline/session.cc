@@ -326,8 +326,8 @@ void Session::Finish() {
   finished_ = true;
 }
 
-cv::Mat Session::StaticMapExclusion(const core::RgbdFrame& frame, double depth_extent) const {
-  return exclusion_.StaticMapExclusion(frame, outcome_.boxes, depth_extent);
+cv::Mat Session::StaticMapExclusion(const core::RgbdFrame& frame, const StaticMapReach& reach) const {
+  return exclusion_.StaticMapExclusion(frame, outcome_.boxes, reach);
 }
 
 void Session::WriteOutputs(const std::filesystem::path& folder) {

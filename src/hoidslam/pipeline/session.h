@@ -64,9 +64,9 @@ class Session {
   // or absent, and counts the keyframes and map points into the summary. Call after Finish for the final map.
   void WriteOutputs(const std::filesystem::path& folder);
 
-  // What the static map leaves out of the frame last tracked, its foregrounds reaching `depth_extent` metres
-  // behind (KeypointExclusion::StaticMapExclusion).
-  cv::Mat StaticMapExclusion(const core::RgbdFrame& frame, double depth_extent) const;
+  // What the static map leaves out of the frame last tracked, its regions reaching as far as `reach` says
+  // (KeypointExclusion::StaticMapExclusion).
+  cv::Mat StaticMapExclusion(const core::RgbdFrame& frame, const StaticMapReach& reach) const;
 
   RunSummary& summary() { return summary_; }
   const RunSummary& summary() const { return summary_; }
