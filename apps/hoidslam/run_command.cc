@@ -580,8 +580,8 @@ void AddRunCommand(CLI::App& app) {
       ->needs(dense);
   command->add_option("--dense-box-margin", args->dense_options.box_margin,
                       "With --dense: share of the width and height of a box hoidplus dropped that the dense map "
-                      "also leaves out beyond each side, at the box's foreground depth (never less than the filter's "
-                      "own HOIDplus.boxMargin)")
+                      "also leaves out beyond each side, there as far behind the foreground as the filter's own cut "
+                      "(never less than the filter's HOIDplus.boxMargin)")
       ->capture_default_str()
       ->needs(dense);
   command->add_flag("--dense-keep-seen-through", args->dense_options.keep_seen_through,
